@@ -1,0 +1,3 @@
+from rvbacklash.cli import main
+
+main()

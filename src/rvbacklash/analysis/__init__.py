@@ -1,0 +1,1 @@
+"""Analyses over a model and the factor distributions: stack-up, sensitivity."""

@@ -1,0 +1,1 @@
+"""Design input: validated schema, derived geometry, loading from TOML or built-in examples."""

@@ -1,0 +1,81 @@
+"""Quantities derived from a validated Design: geometry and resolved tolerance zones."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+from rvbacklash.design import geometry
+from rvbacklash.design.schema import Design
+from rvbacklash.factors.catalog import CATALOG
+
+
+@dataclass(frozen=True)
+class DerivedGeometry:
+    """Everything the transfers and Eq. (1) need, in the units of the field names."""
+
+    ratio: float
+    K1: float
+    centre_gear_pitch_radius_mm: float
+    planet_pitch_radius_mm: float
+    centre_distance_mm: float
+    cycloid_pitch_radius_mm: float
+    crank_circle_radius_mm: float
+    crank_circle_radius_is_default: bool
+    pressure_angle_deg: float
+    crank_eccentricity_coefficient: float
+
+    @property
+    def k1(self) -> float:
+        return self.K1
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def derive_geometry(design: Design) -> DerivedGeometry:
+    s1, s2, s3 = design.first_stage, design.second_stage, design.crank_stage
+    a = geometry.centre_distance_mm(s1.module_mm, s1.centre_gear_teeth, s1.planet_teeth)
+    return DerivedGeometry(
+        ratio=geometry.reduction_ratio(s1.centre_gear_teeth, s1.planet_teeth, s2.pins),
+        K1=geometry.short_amplitude_coefficient(s2.eccentricity_mm, s2.pins, s2.pin_circle_radius_mm),
+        centre_gear_pitch_radius_mm=geometry.pitch_radius_mm(s1.module_mm, s1.centre_gear_teeth),
+        planet_pitch_radius_mm=geometry.pitch_radius_mm(s1.module_mm, s1.planet_teeth),
+        centre_distance_mm=a,
+        cycloid_pitch_radius_mm=geometry.cycloid_pitch_radius_mm(s2.eccentricity_mm, s2.cycloid_teeth),
+        crank_circle_radius_mm=s3.crank_circle_radius_mm if s3.crank_circle_radius_mm is not None else a,
+        crank_circle_radius_is_default=s3.crank_circle_radius_mm is None,
+        pressure_angle_deg=s1.pressure_angle_deg,
+        crank_eccentricity_coefficient=s3.eccentricity_transfer_coefficient,
+    )
+
+
+@dataclass(frozen=True)
+class ResolvedZone:
+    """The zone [um] of one factor's raw quantity as used by the analysis."""
+
+    lower_um: float
+    upper_um: float
+    distribution: str
+    origin: str  # "explicit", or where a default came from
+    note: str = ""
+
+
+_NOMINAL_MODIFICATION = {
+    "equidistance_modification": "equidistance_modification_um",
+    "moving_distance_modification": "moving_distance_modification_um",
+}
+
+
+def resolve_zones(design: Design) -> tuple[ResolvedZone, ...]:
+    """Zones in catalog order. An omitted modification zone is the stage's nominal value."""
+    zones = []
+    for f in CATALOG:
+        zone = getattr(design.factors, f.key)
+        if zone is None:
+            field = _NOMINAL_MODIFICATION[f.key]
+            v = float(getattr(design.second_stage, field))
+            zones.append(ResolvedZone(v, v, "fixed", f"second_stage.{field} (nominal, fixed)"))
+        else:
+            lo, hi = zone.limits_um
+            zones.append(ResolvedZone(float(lo), float(hi), zone.distribution, "explicit", zone.note))
+    return tuple(zones)

@@ -1,0 +1,1 @@
+"""Backlash models: raw factor values (n, 21) [um] -> output backlash (n,) [arcmin]."""

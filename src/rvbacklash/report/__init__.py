@@ -1,0 +1,1 @@
+"""Outputs: rich tables for the terminal, JSON and CSV files."""

@@ -1,0 +1,1 @@
+"""Input distributions of the raw factor quantities (and, later, the sampling engine)."""

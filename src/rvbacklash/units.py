@@ -1,0 +1,7 @@
+"""Unit constants. Lengths of geometry are in [mm], tolerances and backlash in [um],
+angles at the output in [arcmin]."""
+
+import math
+
+ARCMIN_PER_RAD = 10800.0 / math.pi  # 180 * 60 / pi, the "180 x 60 / pi" of Eq. (1)
+MM_PER_UM = 1e-3
