@@ -15,7 +15,7 @@ from rvbacklash.analysis.sensitivity import (
 from rvbacklash.design.derived import resolve_zones
 from rvbacklash.design.loading import design_from_dict
 from rvbacklash.factors.catalog import CATALOG
-from rvbacklash.sampling.distributions import zone_moments
+from rvbacklash.sampling.distributions import input_moments
 
 finite = dict(allow_nan=False, allow_infinity=False)
 
@@ -50,7 +50,7 @@ def designs(draw):
 def test_stackup_invariants(design):
     r = analyze(design)
     model = build_linear_model(design)
-    mu, sd = zone_moments(resolve_zones(design))
+    mu, sd = input_moments(resolve_zones(design))
     S = model.sensitivities_arcmin_per_um
     t = r.total
 

@@ -12,7 +12,8 @@ from rvbacklash.design.derived import DerivedGeometry, ResolvedZone, resolve_zon
 from rvbacklash.design.schema import Design
 from rvbacklash.factors.catalog import CATALOG, Stage
 from rvbacklash.model.linear import LinearModel, build_linear_model
-from rvbacklash.sampling.distributions import zone_moments
+from rvbacklash.factors.catalog import FACTOR_KEYS
+from rvbacklash.sampling.distributions import correlation_matrix, input_moments
 
 
 # --- formulas ---------------------------------------------------------------------------
@@ -22,9 +23,13 @@ def linear_mean(coefficients: np.ndarray, means: np.ndarray) -> float:
     return float(np.dot(coefficients, means))
 
 
-def linear_sigma(coefficients: np.ndarray, sigmas: np.ndarray) -> float:
-    """sqrt(sum c_i^2 sigma_i^2) for independent x_i (statistical stack-up)."""
-    return float(np.sqrt(np.sum((np.asarray(coefficients) * np.asarray(sigmas)) ** 2)))
+def linear_sigma(coefficients: np.ndarray, sigmas: np.ndarray, correlation: np.ndarray | None = None) -> float:
+    """Standard deviation of sum c_i x_i: sqrt(sum c_i^2 sigma_i^2) for independent x_i,
+    sqrt(v^T R v) with v = c * sigma for a correlation matrix R (statistical stack-up)."""
+    v = np.asarray(coefficients) * np.asarray(sigmas)
+    if correlation is None:
+        return float(np.sqrt(np.sum(v ** 2)))
+    return float(np.sqrt(max(v @ correlation @ v, 0.0)))
 
 
 def worst_case_extremes(coefficients: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> tuple[float, float]:
@@ -127,7 +132,8 @@ def analyze(design: Design, model: LinearModel | None = None) -> StackupResult:
     """Deterministic analysis of a design: stack-up and sensitivities of the linear model."""
     model = model or build_linear_model(design)
     zones: tuple[ResolvedZone, ...] = resolve_zones(design)
-    mu_x, sd_x = zone_moments(zones)
+    mu_x, sd_x = input_moments(zones)
+    corr = correlation_matrix(design.correlation, FACTOR_KEYS)
     lo = np.array([z.lower_um for z in zones])
     hi = np.array([z.upper_um for z in zones])
     gains = model.gains_um_per_um
@@ -160,15 +166,15 @@ def analyze(design: Design, model: LinearModel | None = None) -> StackupResult:
             stage=s.label,
             coefficient_arcmin_per_um=float(coef[m][0]),
             mean_um=linear_mean(gains[m], mu_x[m]),
-            sigma_um=linear_sigma(gains[m], sd_x[m]),
+            sigma_um=linear_sigma(gains[m], sd_x[m], corr[np.ix_(m, m)]),
             mean_arcmin=linear_mean(sens[m], mu_x[m]),
-            sigma_arcmin=linear_sigma(sens[m], sd_x[m]),
+            sigma_arcmin=linear_sigma(sens[m], sd_x[m], corr[np.ix_(m, m)]),
             worst_case_arcmin=float(widening[m].sum()),
             variance_share=float(shares[m].sum()),
         )
 
     mean = linear_mean(sens, mu_x)
-    sigma = linear_sigma(sens, sd_x)
+    sigma = linear_sigma(sens, sd_x, corr)
     wc_min, wc_max = worst_case_extremes(sens, lo, hi)
     rss_hw = rss_half_width(sens, lo, hi)
     total = TotalResult(
@@ -177,4 +183,8 @@ def analyze(design: Design, model: LinearModel | None = None) -> StackupResult:
         worst_case_arcmin=wc_max, worst_case_min_arcmin=wc_min,
         rss_arcmin=linear_mean(sens, (lo + hi) / 2) + rss_hw, rss_half_width_arcmin=rss_hw,
     )
-    return StackupResult(design.name, model.geometry, factors, stages, total, dict(NOTES))
+    notes = dict(NOTES)
+    if design.correlation is not None:
+        notes["correlation"] = (f"correlated factors {', '.join(design.correlation.factors)}: sigma includes the "
+                                "covariances; variance_share is the share of the independent part")
+    return StackupResult(design.name, model.geometry, factors, stages, total, notes)

@@ -51,13 +51,22 @@ def derive_geometry(design: Design) -> DerivedGeometry:
 
 @dataclass(frozen=True)
 class ResolvedZone:
-    """The zone [um] of one factor's raw quantity as used by the analysis."""
+    """One factor's zone [um] and statistical reading, as used by the analysis and sampling.
+
+    Distribution parameters left as None take their defaults from the zone
+    (``rvbacklash.sampling.distributions``).
+    """
 
     lower_um: float
     upper_um: float
-    distribution: str
+    distribution: str  # normal | uniform | truncated_normal | rayleigh | fixed
     origin: str  # "explicit", or where a default came from
     note: str = ""
+    kind: str = "signed"  # catalog kind of the raw quantity
+    mean_um: float | None = None
+    sigma_um: float | None = None
+    scale_um: float | None = None
+    value_um: float | None = None
 
 
 _NOMINAL_MODIFICATION = {
@@ -74,8 +83,12 @@ def resolve_zones(design: Design) -> tuple[ResolvedZone, ...]:
         if zone is None:
             field = _NOMINAL_MODIFICATION[f.key]
             v = float(getattr(design.second_stage, field))
-            zones.append(ResolvedZone(v, v, "fixed", f"second_stage.{field} (nominal, fixed)"))
+            zones.append(ResolvedZone(v, v, "fixed", f"second_stage.{field} (nominal, fixed)", kind=f.kind,
+                                      value_um=v))
         else:
             lo, hi = zone.limits_um
-            zones.append(ResolvedZone(float(lo), float(hi), zone.distribution, "explicit", zone.note))
+            if zone.distribution == "fixed":  # deterministic: its "zone" is the value itself
+                lo = hi = zone.value_um if zone.value_um is not None else 0.5 * (lo + hi)
+            zones.append(ResolvedZone(float(lo), float(hi), zone.distribution, "explicit", zone.note, f.kind,
+                                      zone.mean_um, zone.sigma_um, zone.scale_um, zone.value_um))
     return tuple(zones)

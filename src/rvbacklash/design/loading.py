@@ -109,7 +109,7 @@ def validation_to_input_error(err: ValidationError, model: type[BaseModel]) -> I
     errors = sorted(err.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
     first = errors[0]
     loc = tuple(first["loc"])
-    field = ".".join(str(p) for p in loc) or model.__name__
+    field = ".".join(str(p) for p in loc) or "design"
     n = len(errors) - 1
     more = f" (and {n} more problem{'s' if n > 1 else ''})" if n else ""
     info = _field(model, loc)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from typing import Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rvbacklash.design import geometry
@@ -76,18 +77,36 @@ class CrankStage(_Strict):
         description="k_n of Table 1 row 21 [-]; zero to first order (docs/model.md)")
 
 
-class ToleranceZone(_Strict):
-    """Tolerance zone of one factor's raw quantity [um], and its statistical reading.
+DISTRIBUTIONS = ("normal", "uniform", "truncated_normal", "rayleigh", "fixed")
 
-    Give either ``lower_um`` and ``upper_um``, or ``plus_minus_um`` (symmetric about 0).
-    Default reading (Sun et al. 2014 Eq. (4)-(5)): normal, mean = zone centre,
-    sigma = zone width / 6 (3 sigma = half the zone).
+
+class ToleranceZone(_Strict):
+    """Tolerance zone of one factor's raw quantity [um] and its statistical reading.
+
+    Zone: ``lower_um`` and ``upper_um``, or ``plus_minus_um`` (symmetric about 0).
+    Reading (``distribution``), each with its own named parameters (docs/distributions.md):
+
+    - ``normal`` (default, Sun et al. 2014 Eq. (4)-(5)): mean = zone centre, sigma = zone
+      width / 6; ``mean_um`` / ``sigma_um`` override.
+    - ``uniform``: uniform over the zone.
+    - ``truncated_normal``: the normal above (same overrides), truncated to the zone.
+    - ``rayleigh``: for magnitude-type errors (run-outs, eccentricities, misalignments):
+      scale such that 99.73 % of magnitudes lie within the zone; ``scale_um`` overrides.
+    - ``fixed``: a deterministic value, ``value_um`` or the zone centre.
     """
 
     lower_um: float | None = Field(None, ge=-10000, le=10000, description="lower limit [um]")
     upper_um: float | None = Field(None, ge=-10000, le=10000, description="upper limit [um]")
     plus_minus_um: float | None = Field(None, ge=0, le=10000, description="symmetric half-width [um]")
-    distribution: Literal["normal"] = Field("normal", description="statistical reading of the zone")
+    distribution: Literal["normal", "uniform", "truncated_normal", "rayleigh", "fixed"] = Field(
+        "normal", description="statistical reading of the zone")
+    mean_um: float | None = Field(None, ge=-10000, le=10000,
+                                  description="normal / truncated_normal: mean [um]; default zone centre")
+    sigma_um: float | None = Field(None, gt=0, le=10000,
+                                   description="normal / truncated_normal: sigma [um]; default zone width / 6")
+    scale_um: float | None = Field(None, gt=0, le=10000,
+                                   description="rayleigh: scale [um]; default width / 3.4393 (99.73 % inside)")
+    value_um: float | None = Field(None, ge=-10000, le=10000, description="fixed: the value [um]")
     note: str = Field("", max_length=500, description="provenance of the numbers, free text")
 
     @model_validator(mode="after")
@@ -95,19 +114,67 @@ class ToleranceZone(_Strict):
         has_limits = self.lower_um is not None or self.upper_um is not None
         if has_limits and self.plus_minus_um is not None:
             raise ValueError("give either lower_um/upper_um or plus_minus_um, not both")
-        if not has_limits and self.plus_minus_um is None:
+        if not has_limits and self.plus_minus_um is None and self.value_um is None:
             raise ValueError("missing zone: give lower_um and upper_um, or plus_minus_um")
         if has_limits and (self.lower_um is None or self.upper_um is None):
             raise ValueError("give both lower_um and upper_um")
         if has_limits and self.lower_um > self.upper_um:
             raise ValueError(f"lower_um = {self.lower_um} > upper_um = {self.upper_um}: allowed lower_um <= upper_um")
+        owners = {"mean_um": ("normal", "truncated_normal"), "sigma_um": ("normal", "truncated_normal"),
+                  "scale_um": ("rayleigh",), "value_um": ("fixed",)}
+        for name, allowed in owners.items():
+            if getattr(self, name) is not None and self.distribution not in allowed:
+                raise ValueError(f"{name} = {getattr(self, name)} does not apply to distribution "
+                                 f"'{self.distribution}'; allowed with: {', '.join(allowed)}")
+        if self.distribution in ("uniform", "truncated_normal") and self.limits_um[0] == self.limits_um[1]:
+            raise ValueError(f"distribution '{self.distribution}' needs a zone of non-zero width; "
+                             f"got [{self.limits_um[0]}, {self.limits_um[1]}]")
+        if self.distribution == "truncated_normal" and self.mean_um is not None:
+            lo, hi = self.limits_um
+            if not lo <= self.mean_um <= hi:
+                raise ValueError(f"mean_um = {self.mean_um} outside the zone [{lo}, {hi}] it is truncated to")
         return self
 
     @property
     def limits_um(self) -> tuple[float, float]:
         if self.plus_minus_um is not None:
             return (-self.plus_minus_um, self.plus_minus_um)
+        if self.lower_um is None:  # fixed with value_um only
+            return (self.value_um, self.value_um)  # type: ignore[return-value]
         return (self.lower_um, self.upper_um)  # type: ignore[return-value]
+
+
+class Correlation(_Strict):
+    """Correlation between named factors, applied as a Gaussian copula."""
+
+    factors: list[str] = Field(min_length=2, description="factor keys, in the order of the matrix")
+    matrix: list[list[float]] = Field(description="symmetric positive semi-definite, unit diagonal")
+
+    @model_validator(mode="after")
+    def _valid(self) -> "Correlation":
+        known = [f.key for f in CATALOG]
+        for k in self.factors:
+            if k not in known:
+                raise ValueError(f"factors: unknown factor {k!r}; allowed: {', '.join(known)}")
+        if len(set(self.factors)) != len(self.factors):
+            raise ValueError("factors: a factor is listed twice")
+        n = len(self.factors)
+        if len(self.matrix) != n or any(len(row) != n for row in self.matrix):
+            raise ValueError(f"matrix must be {n} x {n} (one row and column per listed factor)")
+        m = np.array(self.matrix, dtype=float)
+        if not np.all(np.isfinite(m)):
+            raise ValueError("matrix: entries must be finite")
+        if not np.allclose(np.diag(m), 1.0, atol=1e-12):
+            raise ValueError(f"matrix: diagonal must be 1; got {np.diag(m).tolist()}")
+        if np.any(np.abs(m) > 1.0):
+            raise ValueError("matrix: entries must lie in [-1, 1]")
+        if not np.allclose(m, m.T, atol=1e-12):
+            raise ValueError("matrix: must be symmetric")
+        smallest = float(np.linalg.eigvalsh(m).min())
+        if smallest < -1e-10:
+            raise ValueError(f"matrix: not positive semi-definite (smallest eigenvalue "
+                             f"{smallest:.4g}); allowed: a valid correlation matrix")
+        return self
 
 
 # Factors whose zone may be omitted: the nominal modification of the second stage is used
@@ -139,3 +206,17 @@ class Design(_Strict):
     second_stage: SecondStage
     crank_stage: CrankStage = CrankStage()
     factors: Factors  # type: ignore[valid-type]
+    correlation: Correlation | None = None
+
+    @model_validator(mode="after")
+    def _rayleigh_only_for_magnitudes(self) -> "Design":
+        for f in CATALOG:
+            zone = getattr(self.factors, f.key)
+            if zone is not None and zone.distribution == "rayleigh" and f.kind not in ("magnitude", "phase"):
+                allowed = ", ".join(g.key for g in CATALOG if g.kind in ("magnitude", "phase"))
+                raise ValueError(f"factors.{f.key}.distribution = 'rayleigh': a Rayleigh law is for magnitude-type "
+                                 f"errors; allowed for: {allowed}")
+            if zone is not None and zone.distribution == "rayleigh" and f.kind == "magnitude" and \
+                    zone.limits_um[1] <= zone.limits_um[0]:
+                raise ValueError(f"factors.{f.key}: rayleigh needs a zone [lower, upper] with upper > lower")
+        return self

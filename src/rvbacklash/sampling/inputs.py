@@ -1,0 +1,87 @@
+"""From standard normals to the 21 raw factor values (Gaussian copula), and the fast-path
+plan of the linear model.
+
+Every method first produces independent standard normals Z, one column per random factor.
+A correlation matrix R (Gaussian copula) makes them Z L^T with L L^T = R. A normal factor is
+then mu + sigma z; any other marginal F is F^-1(Phi(z)); a fixed factor is its value.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import special
+
+from rvbacklash.design.derived import ResolvedZone
+from rvbacklash.sampling.distributions import fixed_value_um, is_normal, marginal
+
+N_FACTORS = 21
+
+
+def correlation_factor(r: np.ndarray) -> np.ndarray:
+    """L with L L^T = R for a symmetric positive semi-definite R (eigen-decomposition, so a
+    singular R, e.g. two fully correlated factors, is fine)."""
+    vals, vecs = np.linalg.eigh(r)
+    return vecs * np.sqrt(np.clip(vals, 0.0, None))
+
+
+@dataclass(frozen=True, eq=False)
+class InputTransform:
+    """Maps (n, k) independent standard normals to (n, 21) raw values [um]."""
+
+    random_columns: np.ndarray  # catalog indices of the k random factors
+    fixed_values: np.ndarray  # (21,) value of every factor without variance (0 elsewhere)
+    marginals: tuple  # (k,) scipy frozen distributions
+    normal_mask: np.ndarray  # (k,) True where the marginal is normal
+    means: np.ndarray  # (k,) normal means (0 elsewhere)
+    sigmas: np.ndarray  # (k,) normal sigmas (0 elsewhere)
+    chol: np.ndarray | None  # (k, k) correlation factor, None if independent
+
+    @property
+    def dimension(self) -> int:
+        return int(self.random_columns.size)
+
+    def correlate(self, z: np.ndarray) -> np.ndarray:
+        return z if self.chol is None else z @ self.chol.T
+
+    def __call__(self, z: np.ndarray) -> np.ndarray:
+        z = self.correlate(z)
+        x = np.broadcast_to(self.fixed_values, (z.shape[0], N_FACTORS)).copy()
+        for col, (idx, dist) in enumerate(zip(self.random_columns, self.marginals)):
+            if self.normal_mask[col]:
+                x[:, idx] = self.means[col] + self.sigmas[col] * z[:, col]
+            else:
+                x[:, idx] = dist.ppf(special.ndtr(z[:, col]))
+        return x
+
+
+def build_input_transform(zones: tuple[ResolvedZone, ...], corr: np.ndarray) -> InputTransform:
+    cols, dists = [], []
+    fixed = np.zeros(N_FACTORS)
+    for i, z in enumerate(zones):
+        d = marginal(z)
+        if d is None:
+            fixed[i] = fixed_value_um(z)
+        else:
+            cols.append(i)
+            dists.append(d)
+    cols_a = np.array(cols, dtype=int)
+    normal = np.array([is_normal(d) for d in dists], dtype=bool)
+    means = np.array([d.mean() if is_normal(d) else 0.0 for d in dists])
+    sigmas = np.array([d.std() if is_normal(d) else 0.0 for d in dists])
+    sub = corr[np.ix_(cols_a, cols_a)] if cols else np.eye(0)
+    chol = None if np.allclose(sub, np.eye(len(cols))) else correlation_factor(sub)
+    return InputTransform(cols_a, fixed, tuple(dists), normal, means, sigmas, chol)
+
+
+def linear_fast_plan(transform: InputTransform, sensitivities: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """(weights, offset) such that y = offset + z . weights for the linear model, when every
+    random factor is normal (correlated or not); None otherwise."""
+    if not transform.normal_mask.all():
+        return None
+    s = sensitivities[transform.random_columns]
+    v = s * transform.sigmas
+    weights = v if transform.chol is None else transform.chol.T @ v
+    offset = float(sensitivities @ transform.fixed_values + s @ transform.means)
+    return np.ascontiguousarray(weights, dtype=float), offset

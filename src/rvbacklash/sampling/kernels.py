@@ -1,0 +1,100 @@
+"""Compiled inner loops (numba, nogil so that threads run them in parallel).
+
+Draw order is part of the reproducibility contract: for each sample, factor by factor,
+``rng.standard_normal()`` (default) or two ``rng.random()`` (Box-Muller). numba's Generator
+methods reproduce numpy's streams bit for bit, so the numpy fallbacks in ``engine`` give the
+same numbers.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+TWO_PI = 2.0 * math.pi
+
+
+@nb.njit(nogil=True, cache=True)
+def linear_normal_block(rng, n, weights, offset, out):
+    """out[i] = offset + sum_j z_ij * weights[j], z standard normal from ``rng`` (ziggurat).
+    The linear model with sigma folded into the weights: y = c + sum (S_j sigma_j) z_j."""
+    k = weights.size
+    for i in range(n):
+        y = offset
+        for j in range(k):
+            y += rng.standard_normal() * weights[j]
+        out[i] = y
+
+
+@nb.njit(nogil=True, cache=True)
+def box_muller_normal(r1, r2):
+    """Sun et al. 2014, Eq. (8) with mu = 0, sigma = 1: z = sqrt(-2 ln R1) sin(2 pi R2).
+    R1 is taken as 1 - u, u in [0, 1), so that ln never sees 0."""
+    return math.sqrt(-2.0 * math.log(1.0 - r1)) * math.sin(TWO_PI * r2)
+
+
+@nb.njit(nogil=True, cache=True)
+def linear_box_muller_block(rng, n, weights, offset, out):
+    """As ``linear_normal_block`` with each normal from two uniforms by Eq. (8)."""
+    k = weights.size
+    for i in range(n):
+        y = offset
+        for j in range(k):
+            r1 = rng.random()
+            r2 = rng.random()
+            y += box_muller_normal(r1, r2) * weights[j]
+        out[i] = y
+
+
+@nb.njit(nogil=True, cache=True)
+def box_muller_normals(rng, n, k, out):
+    """(n, k) standard normals by Eq. (8), same draw order as ``linear_box_muller_block``."""
+    for i in range(n):
+        for j in range(k):
+            r1 = rng.random()
+            r2 = rng.random()
+            out[i, j] = box_muller_normal(r1, r2)
+
+
+@nb.njit(nogil=True, cache=True)
+def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
+    """One block's mergeable summary of the output values ``y`` [arcmin].
+
+    stats <- [sum(y - shift), sum((y - shift)^2), min, max, #(y <= spec), #(y < 0)];
+    hist[1 + floor((y - h_lo) * h_scale)] += 1, with hist[0] / hist[-1] the under/overflow.
+    Sums are shifted by (about) the mean so that they do not cancel.
+    """
+    nb_bins = hist.size - 2
+    s1 = 0.0
+    s2 = 0.0
+    mn = np.inf
+    mx = -np.inf
+    le = 0
+    neg = 0
+    for v in y:
+        d = v - shift
+        s1 += d
+        s2 += d * d
+        if v < mn:
+            mn = v
+        if v > mx:
+            mx = v
+        if v <= spec:
+            le += 1
+        if v < 0.0:
+            neg += 1
+        t = (v - h_lo) * h_scale
+        if t < 0.0:
+            hist[0] += 1
+        elif t >= nb_bins:
+            hist[nb_bins + 1] += 1
+        else:
+            hist[int(t) + 1] += 1
+    stats[0] = s1
+    stats[1] = s2
+    stats[2] = mn
+    stats[3] = mx
+    stats[4] = le
+    stats[5] = neg
