@@ -16,6 +16,7 @@ from typing import Callable, Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from rvbacklash import __version__
 from rvbacklash.analysis.stackup import analyze as run_stackup
@@ -136,6 +137,118 @@ def progress_bar(total: int | None):
                   TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
         task = bar.add_task("sampling", total=total)
         yield lambda done: bar.update(task, completed=done)
+
+
+@app.command()
+@exits_cleanly_on_bad_input
+def compare(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    scenario: list[str] = typer.Option([], "--scenario", help="NAME:key=grade,... (keys: involute, cycloid, crank, "
+                                                             "all, edition, or a factor key); repeatable."),
+    paper: bool = typer.Option(False, "--paper", help="Add the paper's Fig. 4 scenarios (a)-(d)."),
+    samples: str = typer.Option("1000000", "--samples", "-n", help="Samples per scenario."),
+    seed: int = typer.Option(0, "--seed", help="Seed (the same for every scenario)."),
+    spec_arcmin: Optional[float] = typer.Option(None, "--spec-arcmin", help="Backlash spec [arcmin]."),
+    method: str = typer.Option("default", "--method", help="default | box-muller | sobol | exact"),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the scenario table as JSON."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG overlay of the distributions."),
+) -> None:
+    """Compare precision-grade scenarios of one design (Sun et al. 2014, Fig. 4)."""
+    from rvbacklash.analysis.scenarios import compare as run_compare
+    from rvbacklash.analysis.scenarios import paper_scenarios, parse_scenario
+    from rvbacklash.report.plots import scenario_overlay_svg
+
+    n = parse_samples(samples) if method != "exact" else None
+    d = load_design(design)
+    chosen = [parse_scenario(text) for text in scenario]
+    if paper:
+        chosen = paper_scenarios(d) + chosen
+    if not chosen:
+        raise InputError("--scenario", None, "allowed: at least one --scenario NAME:OVERRIDES, or --paper")
+    for option, path in (("--json", json_out), ("--plot", plot)):
+        if path is not None:
+            check_writable(option, path)
+    results = run_compare(d, chosen, n, seed, method, spec_arcmin)
+    outputs = {}
+    if json_out is not None:
+        outputs["--json"] = (json_out, render_json({"design": d.name, "spec_arcmin": spec_arcmin,
+                                                    "scenarios": [r.to_dict() for r in results]}))
+    if plot is not None:
+        outputs["--plot"] = (plot, scenario_overlay_svg(results, spec_arcmin, f"{d.name}: precision-grade scenarios"))
+    write_files(outputs)
+    print_scenarios(results, spec_arcmin, stdout)
+    for option, (path, _) in outputs.items():
+        stdout.print(f"wrote {path}")
+
+
+def print_scenarios(results, spec_arcmin, console) -> None:
+    from rich.table import Table
+
+    t = Table(title=escape("Scenarios: output backlash [arcmin]"), title_justify="left")
+    for c in ["scenario", "factors changed", "mean", "sigma", "q 99.865 %", "yield"]:
+        t.add_column(c, justify="left" if c == "scenario" else "right")
+    for r in results:
+        d = r.to_dict()
+        y = d["yield"]
+        ys = "-" if y is None else f"{y['fraction'] * 100:.3f} % [{y['ci95'][0] * 100:.3f}, {y['ci95'][1] * 100:.3f}]"
+        t.add_row(r.name, str(r.tightened), f"{d['mean_arcmin']:.4f}", f"{d['sigma_arcmin']:.4f}",
+                  f"{d['q99865_arcmin']:.4f}", ys)
+    console.print(t)
+
+
+tolerance_app = typer.Typer(help="Tolerances from precision grades (ISO 1328-1, ISO 286).", no_args_is_help=True)
+app.add_typer(tolerance_app, name="tolerance")
+
+
+@tolerance_app.command("iso1328")
+@exits_cleanly_on_bad_input
+def tolerance_iso1328(
+    edition: str = typer.Option("1995", "--edition", help="1995 | 2013"),
+    module: float = typer.Option(..., "--module", help="Module m [mm]."),
+    diameter: float = typer.Option(..., "--diameter", help="Reference diameter d [mm]."),
+    width: float = typer.Option(..., "--width", help="Face width b [mm]."),
+    grade: int = typer.Option(..., "--grade", help="Grade (1995: 0-12) or class (2013: 1-11)."),
+    as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table."),
+) -> None:
+    """Gear tolerances f_pt, F_p, F_alpha, f_falpha, F_beta, F_r of one gear."""
+    from rvbacklash.standards.iso1328 import iso1328_tolerances
+
+    t = iso1328_tolerances(edition, module, diameter, width, grade)
+    if as_json:
+        sys.stdout.write(render_json(t.to_dict()))
+        return
+    stdout.print(f"[bold]{t.standard}[/], grade {t.grade}: m = {module:g} mm, d = {diameter:g} mm, b = {width:g} mm "
+                 f"({t.note})")
+    for k in ("fpt_um", "Fp_um", "Falpha_um", "ffalpha_um", "Fbeta_um", "Fr_um"):
+        stdout.print(f"  {k:11s} {getattr(t, k):8.1f}")
+
+
+@tolerance_app.command("iso286")
+@exits_cleanly_on_bad_input
+def tolerance_iso286(
+    size: float = typer.Option(..., "--size", help="Nominal size D [mm]."),
+    grade: str = typer.Option(..., "--grade", help="IT1 .. IT12"),
+    fit: Optional[str] = typer.Option(None, "--fit", help="A fit such as H7/g6."),
+    as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table."),
+) -> None:
+    """Standard tolerance IT and, optionally, the limits and clearance of a fit."""
+    from rvbacklash.standards import iso286
+
+    g = iso286.parse_it(grade)
+    out = {"standard": "ISO 286-1:2010", "size_mm": size, "grade": f"IT{g}",
+           "size_step_mm": list(iso286.size_step_mm(size)), "IT_um": iso286.it_um(g, size)}
+    if fit is not None:
+        out["fit"] = iso286.fit(fit, size).to_dict()
+    if as_json:
+        sys.stdout.write(render_json(out))
+        return
+    stdout.print(f"[bold]ISO 286-1[/] IT{g} at {size:g} mm (step {out['size_step_mm'][0]:g}..{out['size_step_mm'][1]:g}): "
+                 f"{out['IT_um']:g} um")
+    if fit is not None:
+        f = out["fit"]
+        stdout.print(f"  fit {f['fit']}: hole {f['hole_lower_um']:+g}/{f['hole_upper_um']:+g} um, shaft "
+                     f"{f['shaft_lower_um']:+g}/{f['shaft_upper_um']:+g} um, clearance {f['clearance_min_um']:g} .. "
+                     f"{f['clearance_max_um']:g} um")
 
 
 @app.command()

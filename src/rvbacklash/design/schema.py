@@ -28,6 +28,8 @@ class FirstStage(_Strict):
     module_mm: float = Field(gt=0, le=50, description="module m [mm]")
     pressure_angle_deg: float = Field(gt=0, lt=45, description="pressure angle alpha [deg]")
     planets: int = Field(3, ge=1, le=12, description="planet gears = crankshafts [-]")
+    face_width_mm: float | None = Field(None, gt=0, le=1000,
+                                        description="face width b [mm]; needed for tolerances from a grade")
 
 
 class SecondStage(_Strict):
@@ -75,6 +77,8 @@ class CrankStage(_Strict):
     eccentricity_transfer_coefficient: float = Field(
         0.0, ge=0, le=1,
         description="k_n of Table 1 row 21 [-]; zero to first order (docs/model.md)")
+    bearing_bore_mm: float | None = Field(
+        None, gt=0, le=500, description="crank bearing bore [mm]; needed for its clearance from a grade")
 
 
 DISTRIBUTIONS = ("normal", "uniform", "truncated_normal", "rayleigh", "fixed")
@@ -114,8 +118,6 @@ class ToleranceZone(_Strict):
         has_limits = self.lower_um is not None or self.upper_um is not None
         if has_limits and self.plus_minus_um is not None:
             raise ValueError("give either lower_um/upper_um or plus_minus_um, not both")
-        if not has_limits and self.plus_minus_um is None and self.value_um is None:
-            raise ValueError("missing zone: give lower_um and upper_um, or plus_minus_um")
         if has_limits and (self.lower_um is None or self.upper_um is None):
             raise ValueError("give both lower_um and upper_um")
         if has_limits and self.lower_um > self.upper_um:
@@ -126,22 +128,30 @@ class ToleranceZone(_Strict):
             if getattr(self, name) is not None and self.distribution not in allowed:
                 raise ValueError(f"{name} = {getattr(self, name)} does not apply to distribution "
                                  f"'{self.distribution}'; allowed with: {', '.join(allowed)}")
-        if self.distribution in ("uniform", "truncated_normal") and self.limits_um[0] == self.limits_um[1]:
+        if self.limits_um is not None and self.distribution in ("uniform", "truncated_normal") \
+                and self.limits_um[0] == self.limits_um[1]:
             raise ValueError(f"distribution '{self.distribution}' needs a zone of non-zero width; "
                              f"got [{self.limits_um[0]}, {self.limits_um[1]}]")
-        if self.distribution == "truncated_normal" and self.mean_um is not None:
+        if self.distribution == "truncated_normal" and self.mean_um is not None and self.limits_um is not None:
             lo, hi = self.limits_um
             if not lo <= self.mean_um <= hi:
                 raise ValueError(f"mean_um = {self.mean_um} outside the zone [{lo}, {hi}] it is truncated to")
         return self
 
     @property
-    def limits_um(self) -> tuple[float, float]:
+    def has_zone(self) -> bool:
+        return self.plus_minus_um is not None or self.lower_um is not None or self.value_um is not None
+
+    @property
+    def limits_um(self) -> tuple[float, float] | None:
+        """The zone given in the file, or None when it comes from a grade."""
         if self.plus_minus_um is not None:
             return (-self.plus_minus_um, self.plus_minus_um)
-        if self.lower_um is None:  # fixed with value_um only
-            return (self.value_um, self.value_um)  # type: ignore[return-value]
-        return (self.lower_um, self.upper_um)  # type: ignore[return-value]
+        if self.lower_um is not None:
+            return (self.lower_um, self.upper_um)  # type: ignore[return-value]
+        if self.value_um is not None:  # fixed with value_um only
+            return (self.value_um, self.value_um)
+        return None
 
 
 class Correlation(_Strict):
@@ -184,16 +194,54 @@ OPTIONAL_FACTORS = {"equidistance_modification", "moving_distance_modification"}
 Factors = create_model(
     "Factors",
     __config__=ConfigDict(extra="forbid", frozen=True),
-    __doc__="Tolerance zone of each of the 21 factors of Sun et al. 2014, Table 1.",
+    __doc__="Tolerance zone of each of the 21 factors of Sun et al. 2014, Table 1 (or only its "
+            "distribution, the zone then coming from a grade).",
     **{
-        f.key: (
-            ToleranceZone | None if f.key in OPTIONAL_FACTORS else ToleranceZone,
-            Field(None if f.key in OPTIONAL_FACTORS else ...,
-                  description=f"[{f.id}] {f.name} ({f.symbol}): {f.raw_quantity}"),
-        )
+        f.key: (ToleranceZone | None, Field(None, description=f"[{f.id}] {f.name} ({f.symbol}): {f.raw_quantity}"))
         for f in CATALOG
     },
 )
+
+
+class Grades(_Strict):
+    """Precision grades from which tolerance zones are derived (docs/standards.md).
+
+    Precedence for each factor: an explicit zone in [factors.<key>], else grades.factors.<key>,
+    else the grade of the factor's stage.
+    """
+
+    edition: Literal["1995", "2013"] = Field("1995", description="ISO 1328-1 edition for gear tolerances")
+    involute: int | None = Field(None, ge=0, le=12, description="grade of the involute stage (ISO 1328-1)")
+    cycloid: int | None = Field(None, ge=0, le=12,
+                                description="grade of the cycloid stage (assumption: equivalent-module ISO 1328-1 + ISO 286)")
+    crank: int | None = Field(None, ge=0, le=12, description="grade of the crank stage (ISO 286 IT grade)")
+    factors: dict[str, int] = Field(default_factory=dict, description="grade of single factors, by key")
+
+    @model_validator(mode="after")
+    def _valid(self) -> "Grades":
+        known = [f.key for f in CATALOG]
+        lo, hi = (0, 12) if self.edition == "1995" else (1, 11)
+        for key, grade in self.factors.items():
+            if key not in known:
+                raise ValueError(f"factors: unknown factor {key!r}; allowed: {', '.join(known)}")
+            if key in OPTIONAL_FACTORS:
+                raise ValueError(f"factors.{key}: a designed modification has no grade; set its nominal value "
+                                 f"in second_stage and its error in {key}_error")
+            if not lo <= grade <= hi:
+                raise ValueError(f"factors.{key} = {grade}: allowed grades {lo} to {hi} (ISO 1328-1:{self.edition})")
+        for stage in ("involute", "cycloid", "crank"):
+            g = getattr(self, stage)
+            if g is not None and not lo <= g <= hi:
+                raise ValueError(f"{stage} = {g}: allowed grades {lo} to {hi} (ISO 1328-1:{self.edition})")
+        return self
+
+    def grade_for(self, factor) -> tuple[int, str] | None:
+        """(grade, input field) that applies to a catalog factor, or None."""
+        if factor.key in self.factors:
+            return self.factors[factor.key], f"grades.factors.{factor.key}"
+        stage = factor.stage.label
+        g = getattr(self, stage)
+        return (g, f"grades.{stage}") if g is not None else None
 
 
 class Design(_Strict):
@@ -205,8 +253,21 @@ class Design(_Strict):
     first_stage: FirstStage
     second_stage: SecondStage
     crank_stage: CrankStage = CrankStage()
-    factors: Factors  # type: ignore[valid-type]
+    factors: Factors = Factors()  # type: ignore[valid-type]
+    grades: Grades | None = None
     correlation: Correlation | None = None
+
+    @model_validator(mode="after")
+    def _every_factor_has_a_zone(self) -> "Design":
+        for f in CATALOG:
+            zone = getattr(self.factors, f.key)
+            if f.key in OPTIONAL_FACTORS or (zone is not None and zone.has_zone):
+                continue
+            if self.grades is not None and self.grades.grade_for(f) is not None:
+                continue
+            raise ValueError(f"factors.{f.key}: no tolerance; allowed: a zone (lower_um/upper_um or plus_minus_um) "
+                             f"or a grade (grades.{f.stage.label} or grades.factors.{f.key})")
+        return self
 
     @model_validator(mode="after")
     def _rayleigh_only_for_magnitudes(self) -> "Design":
@@ -217,6 +278,6 @@ class Design(_Strict):
                 raise ValueError(f"factors.{f.key}.distribution = 'rayleigh': a Rayleigh law is for magnitude-type "
                                  f"errors; allowed for: {allowed}")
             if zone is not None and zone.distribution == "rayleigh" and f.kind == "magnitude" and \
-                    zone.limits_um[1] <= zone.limits_um[0]:
+                    zone.limits_um is not None and zone.limits_um[1] <= zone.limits_um[0]:
                 raise ValueError(f"factors.{f.key}: rayleigh needs a zone [lower, upper] with upper > lower")
         return self
