@@ -6,7 +6,7 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: example test clean
+.PHONY: example test screenshot clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -14,12 +14,18 @@ $(STAMP): pyproject.toml
 	$(VENV)/bin/python -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
+# The main job: the HTML report of the built-in RV-80E-class example with the paper's scenarios.
 example: $(STAMP)
 	mkdir -p out
-	$(VENV)/bin/rvbacklash analyze sun2014 --json out/sun2014.json --csv out/sun2014.csv
+	$(VENV)/bin/rvbacklash report rv80e --paper --spec-arcmin 3 --seed 1 -o out/report.html --json out/report.json --force
 
 test: $(STAMP)
+	tools/ensure-chromium
 	$(VENV)/bin/python -m pytest
+
+# Refresh docs/report.png (the README's picture) from the example report.
+screenshot: example
+	$(VENV)/bin/python tools/screenshot.py out/report.html docs/report.png
 
 clean:
 	rm -rf $(VENV) out

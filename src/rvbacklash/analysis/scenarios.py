@@ -103,8 +103,47 @@ class ScenarioResult:
                 "method": self.result.method, "samples": self.result.samples, "seed": self.result.seed}
 
 
+@dataclass
+class Comparison:
+    """The scenarios of one design, simulated alike; iterates over its ScenarioResults."""
+
+    design_name: str
+    spec_arcmin: float | None
+    scenarios: list[ScenarioResult]
+
+    def __iter__(self):
+        return iter(self.scenarios)
+
+    def __len__(self) -> int:
+        return len(self.scenarios)
+
+    def __getitem__(self, i: int) -> ScenarioResult:
+        return self.scenarios[i]
+
+    def to_dict(self) -> dict:
+        return {"design": self.design_name, "spec_arcmin": self.spec_arcmin,
+                "scenarios": [s.to_dict() for s in self.scenarios]}
+
+    def rows(self) -> list[dict]:
+        out = []
+        for s in self.scenarios:
+            d = s.to_dict()
+            y = d["yield"] or {"fraction": None, "ci95": [None, None]}
+            out.append({"name": d["name"], "factors_changed": d["factors_changed"], "mean_arcmin": d["mean_arcmin"],
+                        "sigma_arcmin": d["sigma_arcmin"], "q99865_arcmin": d["q99865_arcmin"],
+                        "yield": y["fraction"], "yield_ci95_low": y["ci95"][0], "yield_ci95_high": y["ci95"][1],
+                        "overrides": ";".join(f"{k}={v}" for k, v in d["overrides"].items())})
+        return out
+
+    def to_frame(self):
+        """The scenario table as a pandas DataFrame indexed by name (needs pandas)."""
+        from rvbacklash.frames import to_frame
+
+        return to_frame(self.rows(), index="name")
+
+
 def compare(design: Design, scenarios: list[tuple[str, dict]], samples: int | None, seed: int | None,
-            method: str = "default", spec_arcmin: float | None = None) -> list[ScenarioResult]:
+            method: str = "default", spec_arcmin: float | None = None) -> Comparison:
     """Simulate every scenario with the same samples, seed and method."""
     out = []
     first_zones = None
@@ -115,4 +154,4 @@ def compare(design: Design, scenarios: list[tuple[str, dict]], samples: int | No
         changed = sum(a != b for a, b in zip(zones, first_zones))
         r = simulate(d, samples, seed, method, spec_arcmin)
         out.append(ScenarioResult(name, overrides, changed, r))
-    return out
+    return Comparison(design.name, spec_arcmin, out)

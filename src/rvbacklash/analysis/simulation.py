@@ -55,6 +55,27 @@ class SimulationResult:
             "samples_per_s": (s.get("samples_done") or 0) / self.elapsed_s if self.elapsed_s > 0 else None,
         }
 
+    def rows(self) -> list[dict]:
+        """The statistics as table rows: statistic, value, 95 % interval."""
+        s = self.stats
+
+        def row(name, value, ci=(None, None)):
+            return {"statistic": name, "value": value, "ci95_low": ci[0], "ci95_high": ci[1]}
+
+        out = [row("mean_arcmin", s["mean_arcmin"], s["mean_ci95"]), row("std_arcmin", s["std_arcmin"])]
+        out += [row(f"quantile_{p}_arcmin", q["value"], q["ci95"]) for p, q in s["quantiles"].items()]
+        if s.get("yield") is not None:
+            out.append(row("yield", s["yield"]["fraction"], s["yield"]["ci95"]))
+            out += [row(k, s[k]) for k in ("ppm_out", "cp", "cpk")]
+        out.append(row("interference_fraction", s["interference_fraction"]))
+        return out
+
+    def to_frame(self):
+        """The statistics as a pandas DataFrame indexed by statistic (needs pandas)."""
+        from rvbacklash.frames import to_frame
+
+        return to_frame(self.rows(), index="statistic")
+
 
 def check_run_parameters(samples: int | None, seed: int | None, method: str, spec_arcmin: float | None,
                          quantiles: tuple[float, ...]) -> None:

@@ -117,6 +117,12 @@ class StackupResult:
             "notes": dict(self.notes),
         }
 
+    def to_frame(self):
+        """The factor table as a pandas DataFrame indexed by the Table 2 id (needs pandas)."""
+        from rvbacklash.frames import to_frame
+
+        return to_frame([asdict(f) for f in self.factors], index="id")
+
 
 NOTES = {
     "mean_um, sigma_um": "circumferential backlash of the factor at its stage's pitch circle (paper Table 2)",

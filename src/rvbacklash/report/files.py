@@ -42,7 +42,7 @@ def render_csv(rows: Iterable[Mapping[str, Any]]) -> str:
     return buf.getvalue()
 
 
-def check_writable(option: str, path: Path, force: bool = True) -> None:
+def check_writable(option: str, path: Path, force: bool = False) -> None:
     """Fail early (before any work is written) if ``path`` cannot be written."""
     parent = path.parent if str(path.parent) else Path(".")
     if path.is_dir():
@@ -55,10 +55,11 @@ def check_writable(option: str, path: Path, force: bool = True) -> None:
         raise InputError(option, str(path), "file exists; allowed: a new path, or --force to overwrite")
 
 
-def write_files(contents: Mapping[str, tuple[Path, str | bytes]]) -> None:
-    """Write several rendered outputs {option: (path, content)}; all paths are checked first."""
+def write_files(contents: Mapping[str, tuple[Path, str | bytes]], force: bool = False) -> None:
+    """Write several rendered outputs {option: (path, content)}; all paths are checked first,
+    an existing file is only replaced with ``force``."""
     for option, (path, _) in contents.items():
-        check_writable(option, path)
+        check_writable(option, path, force)
     for option, (path, content) in contents.items():
         _atomic_write(option, path, content)
 
@@ -70,6 +71,9 @@ def _atomic_write(option: str, path: Path, content: str | bytes) -> None:
     try:
         with os.fdopen(fd, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as fh:
             fh.write(content)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file the usual permissions
         os.replace(tmp, path)
     except OSError as e:
         try:
