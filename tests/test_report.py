@@ -36,9 +36,10 @@ def test_report_is_self_contained(report):
     assert not re.search(r"url\((?!#)", text)
     for needle in ("<script src", "<link ", "@import", "<img src=\"http"):
         assert needle not in text, needle
-    for section in ("Design", "Stack-up", "Factors", "Monte-Carlo simulation", "Precision-grade scenarios", "Run"):
+    for section in ("Design", "Stack-up", "Factors", "Monte-Carlo simulation", "Cycloid–pin contact",
+                    "Precision-grade scenarios", "Run"):
         assert f">{section}" in text
-    for fig in ("fig-pareto", "fig-tornado", "fig-histogram", "fig-convergence", "fig-scenarios"):
+    for fig in ("fig-pareto", "fig-tornado", "fig-histogram", "fig-convergence", "fig-scenarios", "fig-contact"):
         assert f'id="{fig}"' in text
     meta = data["metadata"]
     assert meta["seed"] == 1 and meta["samples"] == 200000 and meta["method"] == "default"
@@ -70,7 +71,7 @@ def test_report_in_a_real_browser(report, tmp_path):
         page.screenshot(path=str(tmp_path / "report.png"))
         browser.close()
     assert problems == []
-    assert len(boxes) == 5 and all(b and b["width"] > 100 and b["height"] > 100 for b in boxes)
+    assert len(boxes) == 6 and all(b and b["width"] > 100 and b["height"] > 100 for b in boxes)
     keys = data["key_numbers"]
     assert {k for k, *_ in marked} == set(keys)
     for key, value, text, scale in marked:

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from rvbacklash import analyze, build_linear_model
@@ -14,6 +14,7 @@ from rvbacklash.analysis.sensitivity import (
 )
 from rvbacklash.design.derived import resolve_zones
 from rvbacklash.design.loading import design_from_dict
+from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG
 from rvbacklash.sampling.distributions import input_moments
 
@@ -32,7 +33,7 @@ def designs(draw):
         lo = draw(st.floats(-50, 50, **finite))
         width = draw(st.floats(0, 60, **finite))
         factors[f.key] = {"lower_um": lo, "upper_um": lo + width}
-    return design_from_dict({
+    data = {
         "name": "random",
         "first_stage": {"centre_gear_teeth": draw(st.integers(5, 40)), "planet_teeth": draw(st.integers(5, 120)),
                         "module_mm": draw(st.floats(0.5, 5, **finite)),
@@ -42,7 +43,11 @@ def designs(draw):
                          "equidistance_modification_um": draw(st.floats(-20, 20, **finite))},
         "crank_stage": {"eccentricity_transfer_coefficient": draw(st.floats(0, 1, **finite))},
         "factors": factors,
-    })
+    }
+    try:
+        return design_from_dict(data)
+    except InputError:  # e.g. an undercut profile: not a valid design, draw another
+        assume(False)
 
 
 @settings(max_examples=60, deadline=None)

@@ -47,6 +47,8 @@ class Format(str, Enum):
 
 FORMAT_OPTION = typer.Option(Format.table, "--format", help="What to print on stdout: table, json or csv.")
 FORCE_OPTION = typer.Option(False, "--force", help="Replace existing output files.")
+MODEL_OPTION = typer.Option("linear", "--model", help="linear (Eq. (2)) | contact (geometric cycloid-pin contact, "
+                                                      "per-pin errors; docs/contact.md)")
 
 
 def exits_cleanly_on_bad_input(fn: Callable) -> Callable:
@@ -151,6 +153,7 @@ def simulate(
     seed: int = typer.Option(0, "--seed", help="Seed (integer >= 0; 0 is valid); same seed, same numbers."),
     spec_arcmin: Optional[float] = typer.Option(None, "--spec-arcmin", help="Backlash spec (upper limit) [arcmin]."),
     method: str = typer.Option("default", "--method", help="default | box-muller | sobol | exact"),
+    model: str = MODEL_OPTION,
     quantile: list[float] = typer.Option([], "--quantile", "-q", help="Extra quantile to report (0..1); repeatable."),
     workers: int = typer.Option(0, "--workers", help="Worker threads (0 = all cores); results do not depend on it."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
@@ -169,7 +172,7 @@ def simulate(
     d = load_design(design)
     with progress_bar(n) as progress:
         result = run_simulation(d, n, seed, method, spec_arcmin, tuple(quantile), workers or None,
-                                progress=progress)
+                                model=model, progress=progress)
     data, rows = result.to_dict(), result.rows()
     outputs = {}
     if json_out is not None:
@@ -207,6 +210,7 @@ def compare(
     seed: int = typer.Option(0, "--seed", help="Seed (the same for every scenario)."),
     spec_arcmin: Optional[float] = typer.Option(None, "--spec-arcmin", help="Backlash spec [arcmin]."),
     method: str = typer.Option("default", "--method", help="default | box-muller | sobol | exact"),
+    model: str = MODEL_OPTION,
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the scenario table as JSON."),
     csv_out: Optional[Path] = typer.Option(None, "--csv", help="Write the scenario table as CSV."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG overlay of the distributions."),
@@ -223,7 +227,7 @@ def compare(
     chosen = _scenarios(d, scenario, paper)
     if not chosen:
         raise InputError("--scenario", None, "allowed: at least one --scenario NAME:OVERRIDES, or --paper")
-    results = run_compare(d, chosen, n, seed, method, spec_arcmin)
+    results = run_compare(d, chosen, n, seed, method, spec_arcmin, model)
     data, rows = results.to_dict(), results.rows()
     outputs = {}
     if json_out is not None:
@@ -248,6 +252,7 @@ def report(
     seed: int = typer.Option(0, "--seed", help="Seed (integer >= 0)."),
     spec_arcmin: Optional[float] = typer.Option(None, "--spec-arcmin", help="Backlash spec [arcmin]."),
     method: str = typer.Option("default", "--method", help="default | box-muller | sobol | exact"),
+    model: str = MODEL_OPTION,
     scenario: list[str] = SCENARIO_OPTION,
     paper: bool = typer.Option(False, "--paper", help="Add the paper's Fig. 4 scenarios (a)-(d)."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Also write every number of the report as JSON."),
@@ -262,7 +267,7 @@ def report(
     check_outputs(force, output=output, json=json_out)
     chosen = [parse_scenario(text) for text in scenario]
     with progress_bar(n) as progress:
-        data = make_report(design, n, seed, method, spec_arcmin, chosen, paper, progress)
+        data = make_report(design, n, seed, method, spec_arcmin, chosen, paper, progress, model)
     outputs = {"--output": (output, render_html(data))}
     if json_out is not None:
         outputs["--json"] = (json_out, render_json(data.to_dict()))
@@ -272,6 +277,39 @@ def report(
                                       "key_numbers": data.key_numbers()}))
     else:
         stdout.print(f"report written to {output.resolve()}")
+
+
+@app.command()
+@exits_cleanly_on_bad_input
+def contact(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    crank_angle_deg: float = typer.Option(0.0, "--crank-angle-deg", help="Crank angle of the measurement [deg]."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of the disc, the pins and the first contacts."),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+) -> None:
+    """Play of the nominal design from the exact cycloid-pin geometry: per disc and direction,
+    the first-contact pins, and the output lost motion."""
+    from rvbacklash.analysis.contact import nominal_contact
+    from rvbacklash.report.plots import contact_svg
+
+    if not math.isfinite(crank_angle_deg):
+        raise InputError("--crank-angle-deg", crank_angle_deg, "allowed: a finite angle [deg]")
+    check_outputs(force, json=json_out, plot=plot)
+    result = nominal_contact(load_design(design), math.radians(crank_angle_deg))
+    data = result.to_dict()
+    rows = [{"disc": i, **disc} for i, disc in enumerate(data["discs"])]
+    outputs = {}
+    if json_out is not None:
+        outputs["--json"] = (json_out, render_json(data))
+    if plot is not None:
+        outputs["--plot"] = (plot, contact_svg(result))
+    write_files(outputs, force)
+    emit(fmt, lambda: tables.print_contact(result, stdout), data, rows)
+    if fmt is Format.table:
+        for option, (path, _) in outputs.items():
+            stdout.print(f"wrote {path}")
 
 
 tolerance_app = typer.Typer(help="Tolerances from precision grades (ISO 1328-1, ISO 286).", no_args_is_help=True)

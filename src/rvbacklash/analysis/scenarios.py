@@ -143,7 +143,7 @@ class Comparison:
 
 
 def compare(design: Design, scenarios: list[tuple[str, dict]], samples: int | None, seed: int | None,
-            method: str = "default", spec_arcmin: float | None = None) -> Comparison:
+            method: str = "default", spec_arcmin: float | None = None, model: str = "linear") -> Comparison:
     """Simulate every scenario with the same samples, seed and method."""
     out = []
     first_zones = None
@@ -152,6 +152,6 @@ def compare(design: Design, scenarios: list[tuple[str, dict]], samples: int | No
         zones = [(z.lower_um, z.upper_um) for z in resolve_zones(d)]
         first_zones = first_zones or zones
         changed = sum(a != b for a, b in zip(zones, first_zones))
-        r = simulate(d, samples, seed, method, spec_arcmin)
+        r = simulate(d, samples, seed, method, spec_arcmin, model=model)
         out.append(ScenarioResult(name, overrides, changed, r))
     return Comparison(design.name, spec_arcmin, out)

@@ -17,7 +17,9 @@ from rvbacklash.design.derived import resolve_zones
 from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
-from rvbacklash.model.linear import LinearModel, build_linear_model
+from rvbacklash.model.contact import ContactGeometry
+from rvbacklash.model.linear import build_linear_model
+from rvbacklash.sampling.contact_source import make_contact_source
 from rvbacklash.sampling.distributions import correlation_matrix
 from rvbacklash.sampling.engine import MAX_SAMPLES, METHODS, make_block_source, run_blocks
 from rvbacklash.sampling.inputs import build_input_transform
@@ -96,21 +98,27 @@ def check_run_parameters(samples: int | None, seed: int | None, method: str, spe
             raise InputError("--quantile", p, "allowed: 0 < p < 1")
 
 
+MODELS = ("linear", "contact")
+
+
 def simulate(design: Design, samples: int | None = None, seed: int | None = None, method: str = "default",
              spec_arcmin: float | None = None, quantiles: tuple[float, ...] = st.DEFAULT_QUANTILES,
-             workers: int | None = None, chunk_blocks: int = 4, model: Callable | None = None,
-             model_name: str = "linear", progress: Callable[[int], None] | None = None) -> SimulationResult:
+             workers: int | None = None, chunk_blocks: int = 4, model: str | Callable = "linear",
+             progress: Callable[[int], None] | None = None) -> SimulationResult:
     """Simulate the output backlash [arcmin] of ``design``.
 
-    ``model`` maps (n, 21) raw factor values [um] to n outputs [arcmin]; default: the linear
-    model of Eq. (2). ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol
+    ``model``: "linear" (Eq. (2)), "contact" (geometric cycloid-pin contact with per-pin and
+    per-tooth errors, docs/contact.md), or any callable mapping (n, 21) raw factor values [um]
+    to n outputs [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol
     (scrambled QMC), exact (convolution, linear model only). Every method is seeded; seed 0
     is a valid seed.
     """
     quantiles = tuple(sorted(set(quantiles) | set(st.DEFAULT_QUANTILES)))
+    if isinstance(model, str) and model not in MODELS:
+        raise InputError("--model", model, f"allowed: {', '.join(MODELS)}")
     check_run_parameters(samples, seed, method, spec_arcmin, quantiles)
     linear = build_linear_model(design)
-    model = model or linear
+    model_name = model if isinstance(model, str) else getattr(model, "__name__", "custom")
     stack = analyze(design, linear)
     analytic = {"model": "linear", "mean_arcmin": stack.total.mean_arcmin, "sigma_arcmin": stack.total.sigma_arcmin}
     zones = resolve_zones(design)
@@ -118,13 +126,17 @@ def simulate(design: Design, samples: int | None = None, seed: int | None = None
     spec_or_inf = spec_arcmin if spec_arcmin is not None else math.inf
 
     if method == "exact":
-        if not isinstance(model, LinearModel):
+        if model != "linear":
             raise InputError("--method", "exact", "the exact distribution exists for the linear model only")
         return _exact_result(design.name, linear, zones, corr, spec_arcmin, quantiles, analytic)
 
-    transform = build_input_transform(zones, corr)
-    source = make_block_source(method, int(seed), transform, model,
-                               linear.sensitivities_arcmin_per_um if isinstance(model, LinearModel) else None)
+    if model == "contact":
+        source = make_contact_source(method, int(seed), ContactGeometry.from_design(design), zones,
+                                     linear.sensitivities_arcmin_per_um, not np.allclose(corr, np.eye(len(corr))))
+    else:
+        fn = linear if model == "linear" else model
+        source = make_block_source(method, int(seed), build_input_transform(zones, corr), fn,
+                                   linear.sensitivities_arcmin_per_um if model == "linear" else None)
 
     def snapshot(m, hist) -> dict:
         s = st.summary(m, hist, spec_or_inf, (0.99865,))
@@ -140,14 +152,13 @@ def simulate(design: Design, samples: int | None = None, seed: int | None = None
     if spec_arcmin is None:
         stats.update({"spec_arcmin": None, "yield": None, "ppm_out": None, "cp": None, "cpk": None})
     hist = st.coarse_histogram(raw.histogram, raw.moments.n)
-    curve = None
-    if isinstance(model, LinearModel):
-        try:
-            ex = exact_distribution(linear.sensitivities_arcmin_per_um, zones, corr)
-            xs = np.linspace(hist["edges"][0], hist["edges"][-1], 400)
-            curve = {"x": xs.tolist(), "pdf": ex.pdf(xs).tolist(), "cdf": ex.cdf(xs).tolist()}
-        except InputError:
-            curve = None
+    curve = None  # the linear model's exact distribution, drawn beside any sampled model
+    try:
+        ex = exact_distribution(linear.sensitivities_arcmin_per_um, zones, corr)
+        xs = np.linspace(hist["edges"][0], hist["edges"][-1], 400)
+        curve = {"x": xs.tolist(), "pdf": ex.pdf(xs).tolist(), "cdf": ex.cdf(xs).tolist()}
+    except InputError:  # correlated non-normal inputs: no exact curve
+        pass
     return SimulationResult(design.name, method, int(seed), int(samples), model_name, stats, hist, analytic,
                             raw.convergence, raw.partial, raw.elapsed_s, curve)
 

@@ -13,6 +13,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rvbacklash.design import geometry
+from rvbacklash.model.cycloid_geometry import PinCentreCurve
 from rvbacklash.factors.catalog import CATALOG
 
 
@@ -65,6 +66,15 @@ class SecondStage(_Strict):
                 f"pin_radius_mm = {self.pin_radius_mm}: pins overlap on the pin circle; allowed "
                 f"pin_radius_mm < r_p sin(pi/z_p) = "
                 f"{self.pin_circle_radius_mm * math.sin(math.pi / self.pins):.4g}")
+        curve = PinCentreCurve(self.eccentricity_mm, self.pin_circle_radius_mm + self.moving_distance_modification_um * 1e-3,
+                               self.cycloid_teeth)
+        rho = curve.min_convex_radius_of_curvature()
+        generating = self.pin_radius_mm + self.equidistance_modification_um * 1e-3
+        if not generating < rho:
+            raise ValueError(
+                f"pin_radius_mm = {self.pin_radius_mm}: the profile is undercut (generating pin radius {generating:.4g} mm "
+                f">= smallest radius of curvature {rho:.4g} mm of the pin-centre path); allowed: a smaller pin radius "
+                f"or eccentricity")
         return self
 
 

@@ -27,6 +27,7 @@ class ReportData:
     simulation: SimulationResult
     spec_arcmin: float | None
     scenarios: list[ScenarioResult] = field(default_factory=list)
+    contact: object | None = None  # analysis.contact.NominalContact
     warnings: list[str] = field(default_factory=list)
     created_utc: str = ""
 
@@ -48,7 +49,8 @@ class ReportData:
     def to_dict(self) -> dict:
         return {"metadata": self.metadata(), "warnings": self.warnings, "key_numbers": self.key_numbers(),
                 "analysis": self.stackup.to_dict(), "simulation": self.simulation.to_dict(),
-                "scenarios": [s.to_dict() for s in self.scenarios]}
+                "scenarios": [s.to_dict() for s in self.scenarios],
+                "contact_nominal": self.contact.to_dict() if self.contact is not None else None}
 
     def metadata(self) -> dict:
         sim = self.simulation
@@ -100,17 +102,18 @@ def sha256_text(text: str) -> str:
 
 def build_report_data(design: Design, source: str, source_text: str, stackup: StackupResult,
                       simulation: SimulationResult, spec_arcmin: float | None,
-                      scenarios: list[ScenarioResult] | None = None) -> ReportData:
+                      scenarios: list[ScenarioResult] | None = None, contact=None) -> ReportData:
     return ReportData(design, source, sha256_text(source_text), stackup, simulation, spec_arcmin,
-                      scenarios or [], validity_warnings(design, stackup, simulation),
+                      scenarios or [], contact, validity_warnings(design, stackup, simulation),
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
 
 
 def make_report(source: str, samples: int | None = 1_000_000, seed: int | None = 0, method: str = "default",
                 spec_arcmin: float | None = None, scenarios: list[tuple[str, dict]] | None = None,
-                paper: bool = False, progress=None) -> ReportData:
+                paper: bool = False, progress=None, model: str = "linear") -> ReportData:
     """Everything a report shows, for a design file or example name: stack-up, simulation and
     the scenarios (those given, plus the paper's Fig. 4 set when ``paper``)."""
+    from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.scenarios import compare, paper_scenarios
     from rvbacklash.analysis.simulation import simulate
     from rvbacklash.analysis.stackup import analyze
@@ -119,11 +122,12 @@ def make_report(source: str, samples: int | None = 1_000_000, seed: int | None =
     text, origin = read_design_text(source)
     design = design_from_toml(text, origin)
     stack = analyze(design)
-    sim = simulate(design, samples, seed, method, spec_arcmin, progress=progress)
+    sim = simulate(design, samples, seed, method, spec_arcmin, model=model, progress=progress)
     chosen = (paper_scenarios(design) if paper else []) + list(scenarios or [])
-    scen = list(compare(design, chosen, min(samples, 1_000_000) if samples else None, seed, method, spec_arcmin)) \
-        if chosen else []
-    return build_report_data(design, origin, text, stack, sim, spec_arcmin, scen)
+    scen = list(compare(design, chosen, min(samples, 1_000_000) if samples else None, seed, method, spec_arcmin,
+                        model)) if chosen else []
+    nominal = nominal_contact(design)
+    return build_report_data(design, origin, text, stack, sim, spec_arcmin, scen, nominal)
 
 
 def render_html(data: ReportData) -> str:
@@ -137,7 +141,9 @@ def render_html(data: ReportData) -> str:
         "convergence": plots.inline_svg(plots.convergence_svg(data.simulation)) if data.simulation.convergence else None,
         "scenarios": plots.inline_svg(plots.scenario_overlay_svg(data.scenarios, data.spec_arcmin))
         if data.scenarios else None,
+        "contact": plots.inline_svg(plots.contact_svg(data.contact)) if data.contact is not None else None,
     }
     return env.get_template("report.html.j2").render(
         d=data, r=data.stackup, sim=data.simulation, s=data.simulation.stats, meta=data.metadata(),
-        keys=data.key_numbers(), figures=figures, scenarios=[sc.to_dict() for sc in data.scenarios])
+        keys=data.key_numbers(), figures=figures, scenarios=[sc.to_dict() for sc in data.scenarios],
+        contact=data.contact.to_dict() if data.contact is not None else None)

@@ -141,3 +141,49 @@ def convergence_svg(sim) -> str:
         ax3.set_ylabel("yield [%]", color="#c0392b")
     ax.set_title("Convergence", fontsize=10)
     return _svg(fig)
+
+
+def contact_svg(nominal) -> str:
+    """Disc 0, its pins and the first-contact pins of each direction; the zooms show the gap
+    at the first-contact pins, magnified so that it shows (factor in the title)."""
+    from rvbacklash.model.cycloid_geometry import profile_points, rotate
+
+    g, r = nominal.geometry, nominal.realization
+    chi = r.chi_rad
+    prof = profile_points(g.a_mm, g.rp_mm, g.rrp_mm, g.zc, r.moving_distance_um[0], r.equidistance_um[0])
+    prof = rotate(prof, -chi / g.zc) + g.a_mm * np.array([np.cos(chi), np.sin(chi)])
+    psi = g.pin_angles
+    centres = g.rp_mm * np.stack([np.cos(psi), np.sin(psi)], axis=1)
+    pins = nominal.contact_pins[0]
+    fig = plt.figure(figsize=(9.5, 4.2))
+    ax = fig.add_axes([0.0, 0.05, 0.45, 0.9])
+    ax.fill(prof[:, 0], prof[:, 1], color="#d9e3ef", lw=0.8, ec="#3b6ea5")
+    for j, c in enumerate(centres):
+        col = "#c0392b" if j in pins["ccw"] else "#1f7a3a" if j in pins["cw"] else "#555555"
+        ax.add_patch(plt.Circle(c, g.rrp_mm, fc="none", ec=col, lw=1.6 if col != "#555555" else 0.6))
+    ax.plot(*g.a_mm * np.array([np.cos(chi), np.sin(chi)]), "k+", ms=6)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title(f"disc 1 and {g.zp} pins; first contact: red = ccw, green = cw", fontsize=8)
+    for k, (name, col) in enumerate((("ccw", "#c0392b"), ("cw", "#1f7a3a"))):
+        j = pins[name][0]
+        gap = float(nominal.gaps_um[0, j])
+        magnify = max(1.0, round(0.15 * g.rrp_mm / max(abs(gap) * 1e-3, 1e-9), -1))
+        c = centres[j]
+        pitch = g.a_mm * g.zp * np.array([np.cos(chi), np.sin(chi)])
+        n = (c - pitch) / np.linalg.norm(c - pitch)  # contact normal, towards the pin
+        contact = c - g.rrp_mm * n
+        # exaggerate the gap: move the pin outwards by (magnify - 1) * gap along the normal
+        shown = c + (magnify - 1) * gap * 1e-3 * n
+        zx = fig.add_axes([0.5 + 0.25 * k, 0.12, 0.23, 0.76])
+        near = np.where((np.linalg.norm(prof - contact, axis=1) < 3 * g.rrp_mm)[:, None], prof, np.nan)
+        zx.plot(near[:, 0], near[:, 1], color="#3b6ea5", lw=1.2)
+        zx.add_patch(plt.Circle(shown, g.rrp_mm, fc="none", ec=col, lw=1.4))
+        zx.plot(*contact, "k.", ms=3)
+        zx.set_xlim(contact[0] - 1.2 * g.rrp_mm, contact[0] + 1.2 * g.rrp_mm)
+        zx.set_ylim(contact[1] - 1.2 * g.rrp_mm, contact[1] + 1.2 * g.rrp_mm)
+        zx.set_aspect("equal")
+        zx.set_xticks([])
+        zx.set_yticks([])
+        zx.set_title(f"pin {j} ({name}): gap {gap:.2f} µm\n(shown x{magnify:g})", fontsize=8)
+    return _svg(fig)

@@ -131,3 +131,21 @@ def print_sources(result: StackupResult, console: Console) -> None:
     for f in result.factors:
         t.add_row(str(f.id), f.key, escape(f.zone_origin + (f"; {f.note}" if f.note else "")))
     console.print(t)
+
+
+def print_contact(result, console: Console) -> None:
+    """The nominal design's play from the exact contact geometry."""
+    d = result.to_dict()
+    t = Table(title=escape(f"Contact model, nominal design at crank angle {d['crank_angle_deg']:g} deg"),
+              title_justify="left")
+    for c in ["disc", "play ccw [rad]", "play cw [rad]", "first-contact pins ccw", "first-contact pins cw"]:
+        t.add_column(c, justify="right")
+    for i, disc in enumerate(d["discs"]):
+        t.add_row(str(i), f"{disc['play_ccw_rad']:.4e}", f"{disc['play_cw_rad']:.4e}",
+                  ", ".join(map(str, disc["contact_pins_ccw"])), ", ".join(map(str, disc["contact_pins_cw"])))
+    console.print(t)
+    console.print(f"cycloid stage {d['cycloid_stage_arcmin']:.4f} arcmin (linear model, mean: "
+                  f"{d['linear_cycloid_stage_mean_arcmin']:.4f}); other stages at their means "
+                  + ", ".join(f"{k} {v:.4f}" for k, v in d["other_stages_mean_arcmin"].items())
+                  + f"; [bold]output lost motion {d['lost_motion_arcmin']:.4f} arcmin[/]")
+    console.print(f"[dim]{d['assumptions']}[/]")

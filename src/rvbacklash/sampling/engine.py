@@ -96,6 +96,11 @@ class BlockSource:
             return y
         return np.asarray(self.model(self.transform(self.normals(b, n))), dtype=float)
 
+    def block(self, b: int, n: int) -> tuple[np.ndarray, int]:
+        """Outputs of block b and how many of them interfere (negative lost motion)."""
+        y = self.values(b, n)
+        return y, int(np.count_nonzero(y < 0))
+
 
 def make_block_source(method: str, seed: int, transform: InputTransform, model,
                       sensitivities: np.ndarray | None) -> BlockSource:
@@ -179,7 +184,7 @@ def run_blocks(source: BlockSource, samples: int, spec: float, workers: int = 2,
     """
     t0 = time.perf_counter()
     sizes = block_sizes(samples)
-    pilot = source.values(0, sizes[0])
+    pilot, pilot_interfering = source.block(0, sizes[0])
     lo, hi = _histogram_range(pilot)
     h_scale = HIST_BINS / (hi - lo)
     shift = float(np.mean(pilot))
@@ -200,9 +205,10 @@ def run_blocks(source: BlockSource, samples: int, spec: float, workers: int = 2,
         out = []
         hist = thread_hist()
         for b in blocks:
-            y = pilot if b == 0 else source.values(b, sizes[b])
+            y, interfering = (pilot, pilot_interfering) if b == 0 else source.block(b, sizes[b])
             stats = np.empty(6)
             kernels.accumulate(y, shift, spec, hist, lo, h_scale, stats)
+            stats[5] = interfering  # the source knows what interference means for its model
             out.append((b, stats))
         return out
 
@@ -235,7 +241,9 @@ def run_blocks(source: BlockSource, samples: int, spec: float, workers: int = 2,
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
         try:
             for end in ends:
-                chunks = [range(a, min(a + chunk_blocks, end)) for a in range(start, end, chunk_blocks)]
+                # at least one task per worker in every wave (results do not depend on the split)
+                step = max(1, min(chunk_blocks, -(-(end - start) // max(1, workers))))
+                chunks = [range(a, min(a + step, end)) for a in range(start, end, step)]
                 pending = {pool.submit(task, c) for c in chunks}
                 try:
                     while pending:
