@@ -106,3 +106,23 @@ def test_bad_distribution_parameters(case, tmp_path, sun2014_toml):
     assert p.returncode == 2 and "Traceback" not in p.stderr
     assert fragment in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
     assert not (tmp_path / "s.json").exists()
+
+
+def test_ctrl_c_reports_the_finished_blocks_marked_partial(tmp_path):
+    """SIGINT during a long run: the statistics of the finished blocks, marked partial, exit 130."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "s.json"
+    proc = subprocess.Popen([sys.executable, "-m", "rvbacklash", "simulate", "sun2014", "--samples", "1e10",
+                             "--seed", "1", "--json", str(out), "--quiet"], stderr=subprocess.PIPE, text=True)
+    time.sleep(4.0)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err
+    d = json.loads(out.read_text())
+    assert d["partial"] is True and 0 < d["samples_done"] < 10**10
+    assert sum(d["histogram"]["counts"]) + d["histogram"]["underflow"] + d["histogram"]["overflow"] == d["samples_done"]

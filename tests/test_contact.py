@@ -9,9 +9,8 @@ import pytest
 
 from conftest import run_cli
 from rvbacklash import load_design, simulate
-from rvbacklash.analysis.contact import nominal_contact
 from rvbacklash.design.derived import derive_geometry
-from rvbacklash.design.loading import design_from_toml, example_text
+from rvbacklash.design.loading import design_from_toml
 from rvbacklash.factors.catalog import factor_by_key
 from rvbacklash.model.contact import ContactGeometry, Realization, exact_play, linear_play
 from rvbacklash.model.cycloid_geometry import PinCentreCurve, rotate

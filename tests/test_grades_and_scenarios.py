@@ -9,7 +9,7 @@ from conftest import run_cli
 from rvbacklash import analyze, load_design
 from rvbacklash.analysis.scenarios import apply_overrides, compare, paper_scenarios, parse_scenario
 from rvbacklash.design.derived import resolve_zones
-from rvbacklash.design.loading import design_from_dict, design_from_toml, example_text
+from rvbacklash.design.loading import design_from_dict
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.standards.iso1328 import iso1328_tolerances

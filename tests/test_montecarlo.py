@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from rvbacklash import load_design
 from rvbacklash.analysis.exact import exact_distribution
 from rvbacklash.analysis.simulation import simulate
 from rvbacklash.design.derived import ResolvedZone, resolve_zones

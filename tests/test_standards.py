@@ -1,7 +1,5 @@
 """ISO 1328-1/-2 and ISO 286 tolerances against the standards' printed tables and formulas."""
 
-import math
-
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st

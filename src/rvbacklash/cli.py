@@ -72,10 +72,17 @@ def emit(fmt: Format, table: Callable[[], None], data: dict, rows: list[dict]) -
         table()
 
 
-def save(outputs: dict[str, tuple[Path, str]], force: bool, fmt: Format) -> None:
+def finish(files: dict[str, tuple[Optional[Path], Callable[[], str]]], force: bool, fmt: Format,
+           table: Callable[[], None], data: dict, rows: list[dict], quiet: bool = False) -> None:
+    """Write the requested files ({option: (path or None, render)}), all or none, then print
+    the result in ``fmt`` and, for tables, which files were written."""
+    outputs = {option: (path, render()) for option, (path, render) in files.items() if path is not None}
     write_files(outputs, force)
+    if quiet:
+        return
+    emit(fmt, table, data, rows)
     if fmt is Format.table:
-        for option, (path, _) in outputs.items():
+        for path, _ in outputs.values():
             stdout.print(f"wrote {path}")
 
 
@@ -130,19 +137,10 @@ def analyze(
     """Stack-up and sensitivity of the linear model (Sun et al. 2014, Tables 2-3, Eq. (1)-(7))."""
     check_outputs(force, json=json_out, csv=csv_out)
     result = run_stackup(load_design(design))
-    data, rows = result.to_dict(), result.to_dict()["factors"]
-    outputs = {}
-    if json_out is not None:
-        outputs["--json"] = (json_out, render_json(data))
-    if csv_out is not None:
-        outputs["--csv"] = (csv_out, render_csv(rows))
-    write_files(outputs, force)
-    if quiet:
-        return
-    emit(fmt, lambda: (tables.print_stackup(result, stdout), tables.print_sources(result, stdout)), data, rows)
-    if fmt is Format.table:
-        for option, (path, _) in outputs.items():
-            stdout.print(f"wrote {path}")
+    data = result.to_dict()
+    rows = data["factors"]
+    finish({"--json": (json_out, lambda: render_json(data)), "--csv": (csv_out, lambda: render_csv(rows))}, force, fmt,
+           lambda: (tables.print_stackup(result, stdout), tables.print_sources(result, stdout)), data, rows, quiet)
 
 
 @app.command()
@@ -174,17 +172,8 @@ def simulate(
         result = run_simulation(d, n, seed, method, spec_arcmin, tuple(quantile), workers or None,
                                 model=model, progress=progress)
     data, rows = result.to_dict(), result.rows()
-    outputs = {}
-    if json_out is not None:
-        outputs["--json"] = (json_out, render_json(data))
-    if csv_out is not None:
-        outputs["--csv"] = (csv_out, render_csv(rows))
-    write_files(outputs, force)
-    if not quiet:
-        emit(fmt, lambda: tables.print_simulation(result, stdout), data, rows)
-        if fmt is Format.table:
-            for option, (path, _) in outputs.items():
-                stdout.print(f"wrote {path}")
+    finish({"--json": (json_out, lambda: render_json(data)), "--csv": (csv_out, lambda: render_csv(rows))}, force, fmt,
+           lambda: tables.print_simulation(result, stdout), data, rows, quiet)
     if result.partial:
         raise typer.Exit(130)
 
@@ -229,18 +218,9 @@ def compare(
         raise InputError("--scenario", None, "allowed: at least one --scenario NAME:OVERRIDES, or --paper")
     results = run_compare(d, chosen, n, seed, method, spec_arcmin, model)
     data, rows = results.to_dict(), results.rows()
-    outputs = {}
-    if json_out is not None:
-        outputs["--json"] = (json_out, render_json(data))
-    if csv_out is not None:
-        outputs["--csv"] = (csv_out, render_csv(rows))
-    if plot is not None:
-        outputs["--plot"] = (plot, scenario_overlay_svg(results, spec_arcmin, f"{d.name}: precision-grade scenarios"))
-    write_files(outputs, force)
-    emit(fmt, lambda: tables.print_scenarios(results, stdout), data, rows)
-    if fmt is Format.table:
-        for option, (path, _) in outputs.items():
-            stdout.print(f"wrote {path}")
+    finish({"--json": (json_out, lambda: render_json(data)), "--csv": (csv_out, lambda: render_csv(rows)),
+            "--plot": (plot, lambda: scenario_overlay_svg(results, spec_arcmin, f"{d.name}: precision-grade scenarios"))},
+           force, fmt, lambda: tables.print_scenarios(results, stdout), data, rows)
 
 
 @app.command()
@@ -256,7 +236,7 @@ def report(
     scenario: list[str] = SCENARIO_OPTION,
     paper: bool = typer.Option(False, "--paper", help="Add the paper's Fig. 4 scenarios (a)-(d)."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Also write every number of the report as JSON."),
-    fmt: Format = typer.Option(Format.table, "--format", help="table: print the path; json: print the key numbers."),
+    fmt: Format = typer.Option(Format.table, "--format", help="table: print the path; json, csv: the key numbers."),
     force: bool = FORCE_OPTION,
 ) -> None:
     """One self-contained HTML report: design, factors, stack-up, charts, Monte-Carlo, scenarios."""
@@ -272,11 +252,9 @@ def report(
     if json_out is not None:
         outputs["--json"] = (json_out, render_json(data.to_dict()))
     write_files(outputs, force)
-    if fmt is Format.json:
-        sys.stdout.write(render_json({"report": str(output.resolve()), **data.metadata(),
-                                      "key_numbers": data.key_numbers()}))
-    else:
-        stdout.print(f"report written to {output.resolve()}")
+    summary = {"report": str(output.resolve()), **data.metadata(), "key_numbers": data.key_numbers()}
+    rows = [{"key": k, "value": v} for k, v in data.key_numbers().items()]
+    emit(fmt, lambda: stdout.print(f"report written to {output.resolve()}"), summary, rows)
 
 
 @app.command()
@@ -300,16 +278,8 @@ def contact(
     result = nominal_contact(load_design(design), math.radians(crank_angle_deg))
     data = result.to_dict()
     rows = [{"disc": i, **disc} for i, disc in enumerate(data["discs"])]
-    outputs = {}
-    if json_out is not None:
-        outputs["--json"] = (json_out, render_json(data))
-    if plot is not None:
-        outputs["--plot"] = (plot, contact_svg(result))
-    write_files(outputs, force)
-    emit(fmt, lambda: tables.print_contact(result, stdout), data, rows)
-    if fmt is Format.table:
-        for option, (path, _) in outputs.items():
-            stdout.print(f"wrote {path}")
+    finish({"--json": (json_out, lambda: render_json(data)), "--plot": (plot, lambda: contact_svg(result))}, force,
+           fmt, lambda: tables.print_contact(result, stdout), data, rows)
 
 
 tolerance_app = typer.Typer(help="Tolerances from precision grades (ISO 1328-1, ISO 286).", no_args_is_help=True)

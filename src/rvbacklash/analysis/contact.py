@@ -13,7 +13,6 @@ from rvbacklash.design.schema import Design
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
 from rvbacklash.model.contact import ContactGeometry, MeshPlay, Realization, exact_gaps_um, exact_play
 from rvbacklash.sampling.distributions import input_moments
-from rvbacklash.units import ARCMIN_PER_RAD
 
 TIE_RAD = 1e-9  # pins closer than this to the first contact count as touching together
 

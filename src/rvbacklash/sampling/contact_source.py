@@ -86,7 +86,7 @@ CRANK_STEPS = 256  # crank-angle steps per pin pitch (the mesh geometry repeats 
 def mesh_tables(k1, azc_um, zc, discs, cos_psi, sin_psi, min_lever, steps):
     """Coefficients of every disc at ``steps`` crank angles spread over one pin pitch."""
     zp = cos_psi.size
-    coef = np.empty((steps, discs, zp, 6))
+    coef = np.empty((steps, discs, zp, N_COEF))
     pins = np.empty((steps, discs, zp), dtype=np.int64)
     count = np.empty((steps, discs), dtype=np.int64)
     for s in range(steps):
