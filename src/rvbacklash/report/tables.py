@@ -101,7 +101,8 @@ def print_simulation(r: "SimulationResult", console: Console) -> None:
                   f"[{y['ci95'][0] * 100:.4f} %, {y['ci95'][1] * 100:.4f} %]")
         t.add_row("out of spec", f"{s['ppm_out']:.1f} ppm", "")
         t.add_row("Cp / Cpk (LSL 0, USL spec)", f"{_f(s['cp'], '.3f')} / {_f(s['cpk'], '.3f')}", "")
-    t.add_row("P(backlash < 0): interference", f"{s['interference_fraction'] * 100:.4f} %", "")
+    label = "cycloid stage preloaded" if r.model == "contact" else "P(backlash < 0): interference"
+    t.add_row(label, f"{s['interference_fraction'] * 100:.4f} %", "")
     console.print(t)
     a = r.analytic
     console.print(f"linear stack-up (analyze): mean {a['mean_arcmin']:.4f}, sigma {a['sigma_arcmin']:.4f} arcmin")

@@ -62,7 +62,8 @@ def box_muller_normals(rng, n, k, out):
 def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
     """One block's mergeable summary of the output values ``y`` [arcmin].
 
-    stats <- [sum(y - shift), sum((y - shift)^2), min, max, #(y <= spec), #(y < 0)];
+    stats <- [sum(y - shift), sum((y - shift)^2), min, max, #(y <= spec)] (stats[5], the
+    interference count, is the block source's: what interference means depends on the model);
     hist[1 + floor((y - h_lo) * h_scale)] += 1, with hist[0] / hist[-1] the under/overflow.
     Sums are shifted by (about) the mean so that they do not cancel.
     """
@@ -72,7 +73,6 @@ def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
     mn = np.inf
     mx = -np.inf
     le = 0
-    neg = 0
     for v in y:
         d = v - shift
         s1 += d
@@ -83,8 +83,6 @@ def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
             mx = v
         if v <= spec:
             le += 1
-        if v < 0.0:
-            neg += 1
         t = (v - h_lo) * h_scale
         if t < 0.0:
             hist[0] += 1
@@ -97,4 +95,3 @@ def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
     stats[2] = mn
     stats[3] = mx
     stats[4] = le
-    stats[5] = neg
