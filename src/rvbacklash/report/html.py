@@ -91,6 +91,10 @@ def validity_warnings(design: Design, stackup: StackupResult, sim: SimulationRes
     if any("assumption" in f.zone_origin for f in stackup.factors):
         w.append("some zones rest on documented assumptions (docs/standards.md), e.g. the cycloid stage "
                  "(no public JB/T 10419-2005): check them against supplier data.")
+    if sim.model == "contact" and (sim.stats.get("interference_fraction") or 0) > 0.01:
+        w.append(f"contact model: the cycloid stage is preloaded (rigid interference at some pin) in "
+                 f"{sim.stats['interference_fraction'] * 100:.1f} % of the units; per-pin scatter is large against the "
+                 f"designed clearance (docs/contact.md).")
     if g.crank_circle_radius_is_default:
         w.append(f"crank circle radius a0 not given: the first-stage centre distance {g.crank_circle_radius_mm:g} mm is used.")
     return w
