@@ -10,9 +10,8 @@ import numpy as np
 from rvbacklash.analysis.sensitivity import normalised_weights, rank_descending, variance_shares
 from rvbacklash.design.derived import DerivedGeometry, ResolvedZone, resolve_zones
 from rvbacklash.design.schema import Design
-from rvbacklash.factors.catalog import CATALOG, Stage
+from rvbacklash.factors.catalog import CATALOG, FACTOR_KEYS, Stage
 from rvbacklash.model.linear import LinearModel, build_linear_model
-from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.sampling.distributions import correlation_matrix, input_moments
 
 

@@ -21,7 +21,7 @@ first contact of either disc; a disc's rotation is referred to the output as in 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numba as nb
 import numpy as np
@@ -107,7 +107,6 @@ class DiscPlay:
 @dataclass(frozen=True)
 class MeshPlay:
     discs: tuple[DiscPlay, ...]
-    extra: dict = field(default_factory=dict)
 
     @property
     def play_ccw_rad(self) -> float:
@@ -257,6 +256,7 @@ def exact_gaps_um(g: ContactGeometry, r: Realization, d: int, beta: float = 0.0)
 
 def exact_play(g: ContactGeometry, r: Realization, min_lever: float = MIN_LEVER) -> MeshPlay:
     """Play of every disc from exact signed distances (brentq on the rotation)."""
+    guesses = linear_play(g, r, min_lever).discs  # the linearisation brackets each root
     discs = []
     for d in range(g.discs):
         _, _, lrel = _disc_frame_pins(g, r, d)
@@ -267,9 +267,7 @@ def exact_play(g: ContactGeometry, r: Realization, min_lever: float = MIN_LEVER)
             def closest(beta: float) -> float:
                 return float(np.min(exact_gaps_um(g, r, d, sign * beta)[pins]))
 
-            # linear guess, then bracket and refine
-            guess = linear_play(g, r, min_lever).discs[d]
-            b0 = guess.play_ccw_rad if sign > 0 else guess.play_cw_rad
+            b0 = guesses[d].play_ccw_rad if sign > 0 else guesses[d].play_cw_rad
             span = max(0.1 * abs(b0), 1e-7)
             lo, hi = b0 - span, b0 + span
             for _ in range(40):  # the linear guess is close: widen until the root is bracketed

@@ -155,10 +155,8 @@ class Histogram:
 class RawRun:
     """What a run leaves for the statistics (``rvbacklash.analysis.statistics``)."""
 
-    requested: int
     moments: Moments
     histogram: Histogram
-    spec: float
     convergence: list[dict] = field(default_factory=list)
     partial: bool = False
     elapsed_s: float = 0.0
@@ -271,4 +269,4 @@ def run_blocks(source: BlockSource, samples: int, spec: float, workers: int = 2,
             # blocks finished out of order are folded too, still in block order
             for b in sorted(done):
                 moments.merge_block(sizes[b], shift, done.pop(b))
-    return RawRun(samples, moments, merged_hist(), spec, convergence, partial, time.perf_counter() - t0)
+    return RawRun(moments, merged_hist(), convergence, partial, time.perf_counter() - t0)
