@@ -26,10 +26,10 @@ def main() -> None:
     d = load_design("rv80e")
     s2 = d.second_stage
     draws = 1 + 11 + 2 + 4 * s2.pins + s2.discs * (5 + s2.cycloid_teeth)  # per sample, see contact_source
-    simulate(d, 1 << 16, 0, model="contact")  # compile / load kernels outside the timing
+    simulate(d, samples=1 << 16, seed=0, model="contact")  # compile / load kernels outside the timing
     n = int(a.samples)
     t = time.perf_counter()
-    simulate(d, n, 1, model="contact", spec_arcmin=3.0)
+    simulate(d, samples=n, seed=1, model="contact", spec_arcmin=3.0)
     eng = n / (time.perf_counter() - t)
     rng = np.random.default_rng(1)
     m = 200_000

@@ -1,15 +1,12 @@
-"""Shared fixtures and helpers for the test suite."""
+"""Shared fixtures for the test suite."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
-from rvbacklash import analyze, load_design
-from rvbacklash.design.loading import example_text
+from rvbacklash.analysis.stackup import analyze
+from rvbacklash.design.loading import example_text, load_design
+from rvbacklash.problem import prepare
 
 
 @pytest.fixture(scope="session")
@@ -18,8 +15,23 @@ def sun2014():
 
 
 @pytest.fixture(scope="session")
-def sun2014_result(sun2014):
-    return analyze(sun2014)
+def rv80e():
+    return load_design("rv80e")
+
+
+@pytest.fixture(scope="session")
+def sun2014_problem(sun2014):
+    return prepare(sun2014)
+
+
+@pytest.fixture(scope="session")
+def rv80e_problem(rv80e):
+    return prepare(rv80e)
+
+
+@pytest.fixture(scope="session")
+def sun2014_result(sun2014_problem):
+    return analyze(sun2014_problem)
 
 
 @pytest.fixture(scope="session")
@@ -27,7 +39,6 @@ def sun2014_toml() -> str:
     return example_text("sun2014")
 
 
-def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    """Run the installed command line exactly as a user would (a fresh interpreter)."""
-    return subprocess.run([sys.executable, "-m", "rvbacklash", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd, timeout=120)
+@pytest.fixture(scope="session")
+def rv80e_toml() -> str:
+    return example_text("rv80e")

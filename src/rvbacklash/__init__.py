@@ -1,65 +1,64 @@
 """rvbacklash: design-stage backlash (lost motion) of RV reducers.
 
-Data path: ``design`` (validated input, derived geometry) -> ``factors`` (catalog,
-transfers) -> ``model`` (Eq. (1)/(2) of Sun et al. 2014) -> ``analysis`` (stack-up,
-sensitivity) -> ``cli``.
+Layers, bottom to top (docs/architecture.md; a contract test enforces them):
+units, errors, results -> geometry -> factors -> design | standards -> problem -> models ->
+sampling -> analysis -> api -> report, cli.
 
 Typical use from Python (see examples/quickstart.py)::
 
-    from rvbacklash import load_design, analyze, simulate
-    design = load_design("sun2014")          # or a path to a TOML file
-    analyze(design).to_frame()               # factor table (pandas)
-    simulate(design, 10**6, seed=1, spec_arcmin=3).stats["yield"]
+    import rvbacklash as rb
+    design = rb.load_design("rv80e")          # or a path to a TOML file
+    rb.analyze(design).to_frame()             # factor table (pandas)
+    rb.simulate(design, samples=10**6, seed=1, spec_arcmin=3).to_frame()
+
+Names are imported on first use, so that ``import rvbacklash`` stays fast.
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from rvbacklash._version import __version__
 
-try:
-    __version__ = version("rvbacklash")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0"
-
-from rvbacklash.analysis.stackup import StackupResult, analyze
-from rvbacklash.design.loading import available_examples, load_design
-from rvbacklash.design.schema import Design
-from rvbacklash.errors import InputError
-from rvbacklash.model.linear import LinearModel, build_linear_model
-
-# Imported on first use: they load the compiled sampling kernels (numba), which takes a moment.
-_LAZY = {
-    "simulate": "rvbacklash.analysis.simulation",
-    "SimulationResult": "rvbacklash.analysis.simulation",
-    "compare": "rvbacklash.analysis.scenarios",
-    "paper_scenarios": "rvbacklash.analysis.scenarios",
-    "Comparison": "rvbacklash.analysis.scenarios",
-    "make_report": "rvbacklash.report.html",
+_EXPORTS = {
+    # api: every entry point takes a Design, a TOML path, an example name or a Problem
+    "prepare": "rvbacklash.api",
+    "analyze": "rvbacklash.api",
+    "simulate": "rvbacklash.api",
+    "exact": "rvbacklash.api",
+    "compare": "rvbacklash.api",
+    "paper_scenarios": "rvbacklash.api",
+    "contact": "rvbacklash.api",
+    "make_report": "rvbacklash.api",
     "render_html": "rvbacklash.report.html",
+    # inputs
+    "load_design": "rvbacklash.design.loading",
+    "available_examples": "rvbacklash.design.loading",
+    "example_text": "rvbacklash.design.loading",
+    "Design": "rvbacklash.design.schema",
+    "Problem": "rvbacklash.problem",
+    "Scenario": "rvbacklash.analysis.scenarios",
+    "InputError": "rvbacklash.errors",
+    # results
+    "StackupResult": "rvbacklash.analysis.stackup",
+    "SimulationResult": "rvbacklash.analysis.simulation",
+    "OutputStatistics": "rvbacklash.analysis.statistics",
+    "Comparison": "rvbacklash.analysis.scenarios",
+    "NominalContact": "rvbacklash.analysis.contact",
+    "ReportData": "rvbacklash.analysis.report_data",
+    # the linear model as a function (n, 21) -> (n,)
+    "LinearModel": "rvbacklash.models.linear",
+    "linear_model": "rvbacklash.models.linear",
 }
+
+__all__ = sorted(_EXPORTS) + ["__version__"]
 
 
 def __getattr__(name: str):
-    if name in _LAZY:
+    if name in _EXPORTS:
         import importlib
 
-        return getattr(importlib.import_module(_LAZY[name]), name)
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'rvbacklash' has no attribute {name!r}")
 
 
-__all__ = [
-    "Comparison",
-    "SimulationResult",
-    "compare",
-    "make_report",
-    "paper_scenarios",
-    "render_html",
-    "simulate",
-    "Design",
-    "InputError",
-    "LinearModel",
-    "StackupResult",
-    "analyze",
-    "available_examples",
-    "build_linear_model",
-    "load_design",
-    "__version__",
-]
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -5,3 +5,4 @@ import math
 
 ARCMIN_PER_RAD = 10800.0 / math.pi  # 180 * 60 / pi, the "180 x 60 / pi" of Eq. (1)
 MM_PER_UM = 1e-3
+UM_PER_MM = 1e3

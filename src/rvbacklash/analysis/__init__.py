@@ -1,1 +1,2 @@
-"""Analyses over a model and the factor distributions: stack-up, sensitivity."""
+"""Analyses over a prepared Problem: stack-up, sensitivity, exact distribution, simulation,
+scenarios, nominal contact; each returns a typed result."""

@@ -2,27 +2,30 @@
 
 dphi = sum_i S_i x_i with independent x_i is a sum of independent variables, so its density
 is the convolution of the factor densities. All-normal inputs (correlated or not) give the
-closed form N(sum S mu, v^T R v). Any other mix of independent marginals is convolved
-numerically: every scaled term S_i x_i is binned by exact probability mass on a common grid
-(centred bins, width h) and the masses are multiplied in Fourier space (one FFT per term).
-The grid has 2^20 points over the sum of the terms' supports, so quantiles are exact to a
-small fraction of h (validated against closed forms in tests).
+closed form N(sum S mu, v^T R v), evaluated without scipy (``statistics.NormalDist``). Any
+other mix of independent marginals is convolved numerically: every scaled term S_i x_i is
+binned by exact probability mass on a common grid (centred bins, width h) and the masses are
+multiplied in Fourier space (one FFT per term). The grid has 2^20 points over the sum of the
+terms' supports, so quantiles are exact to a small fraction of h (validated against closed
+forms in tests).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from statistics import NormalDist
 
 import numpy as np
-from scipy import fft, stats
 
-from rvbacklash.design.derived import ResolvedZone
 from rvbacklash.errors import InputError
-from rvbacklash.sampling.distributions import fixed_value_um, is_normal, marginal
+from rvbacklash.factors.distributions import is_normal
+from rvbacklash.problem import Problem
 
 GRID_POINTS = 1 << 20
 TAIL = 1e-15  # probability left out at each end of an unbounded term
+
+_erf = np.frompyfunc(math.erf, 1, 1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -49,7 +52,8 @@ class ExactDistribution:
         if self.pmf is None:
             if self.std == 0:
                 return (x >= self.mean).astype(float)
-            return stats.norm.cdf(x, self.mean, self.std)
+            z = (x - self.mean) / (self.std * math.sqrt(2.0))
+            return np.asarray(0.5 * (1.0 + _erf(z)), dtype=float)
         edges, c = self._edges_cdf()
         return np.interp(x, edges, c)
 
@@ -58,7 +62,9 @@ class ExactDistribution:
         if self.pmf is None:
             if self.std == 0:
                 return np.full_like(p, self.mean)
-            return stats.norm.ppf(p, self.mean, self.std)
+            d = NormalDist(self.mean, self.std)
+            return np.vectorize(lambda q: d.inv_cdf(q) if 0 < q < 1 else math.copysign(math.inf, q - 0.5),
+                                otypes=[float])(p)
         edges, c = self._edges_cdf()
         i = np.clip(np.searchsorted(c, p, side="left"), 1, c.size - 1)
         c0, c1 = c[i - 1], c[i]
@@ -70,7 +76,8 @@ class ExactDistribution:
         if self.pmf is None:
             if self.std == 0:
                 return np.zeros_like(x)
-            return stats.norm.pdf(x, self.mean, self.std)
+            z = (x - self.mean) / self.std
+            return np.exp(-0.5 * z * z) / (self.std * math.sqrt(2.0 * math.pi))
         centres = self.start + self.h * np.arange(self.pmf.size)
         return np.interp(x, centres, self.pmf / self.h, left=0.0, right=0.0)
 
@@ -89,51 +96,52 @@ def _binned_masses(dist, scale: float, lo: float, h: float, n: int) -> np.ndarra
     return masses / masses.sum()
 
 
-def exact_distribution(sensitivities: np.ndarray, zones: tuple[ResolvedZone, ...], corr: np.ndarray,
+def exact_distribution(problem: Problem, sensitivities: np.ndarray | None = None,
                        grid_points: int = GRID_POINTS) -> ExactDistribution:
-    """Exact output distribution of the linear model ``sum S_i x_i``.
+    """Exact output distribution of the linear model ``sum S_i x_i`` of a problem.
 
-    Parameters: sensitivities S [arcmin/um] (catalog order), the factors' zones, their
-    correlation matrix. Correlation is supported when every random factor is normal.
+    ``sensitivities`` [arcmin/um] default to the problem's (Eq. (6)). Correlation is supported
+    when every random factor is normal.
     """
+    s = problem.sensitivities_arcmin_per_um if sensitivities is None else np.asarray(sensitivities, float)
+    means, sigmas = problem.means_um, problem.sigmas_um
     const = 0.0
     normals: list[int] = []
-    others: list[tuple[int, object]] = []
-    for i, z in enumerate(zones):
-        d = marginal(z)
-        if d is None:
-            const += sensitivities[i] * fixed_value_um(z)
-        elif sensitivities[i] == 0:
+    others: list[int] = []
+    for i, z in enumerate(problem.zones):
+        if sigmas[i] == 0:
+            const += s[i] * means[i]
+        elif s[i] == 0:
             continue
-        elif is_normal(d):
+        elif is_normal(z):
             normals.append(i)
         else:
-            others.append((i, d))
-    correlated = not np.allclose(corr, np.eye(corr.shape[0]))
-    if correlated and others:
-        raise InputError("--method", "exact", "the exact distribution needs independent factors, or correlated "
-                         "factors that are all normal; use a sampling method")
-    dists = [marginal(zones[i]) for i in normals]
-    mu_n = sum(sensitivities[i] * float(d.mean()) for i, d in zip(normals, dists))
-    v = np.array([sensitivities[i] * float(d.std()) for i, d in zip(normals, dists)])
-    var_n = float(v @ corr[np.ix_(normals, normals)] @ v) if normals else 0.0
-    mean = const + mu_n + sum(sensitivities[i] * float(d.mean()) for i, d in others)
-    std = math.sqrt(var_n + sum((sensitivities[i] * float(d.std())) ** 2 for i, d in others))
+            others.append(i)
+    if problem.correlated and others:
+        raise InputError("method", "exact", "the exact distribution needs independent factors, or correlated "
+                                            "factors that are all normal; use a sampling method")
+    mu_n = float(sum(s[i] * means[i] for i in normals))
+    v = np.array([s[i] * sigmas[i] for i in normals])
+    var_n = float(v @ problem.correlation[np.ix_(normals, normals)] @ v) if normals else 0.0
+    mean = const + mu_n + float(sum(s[i] * means[i] for i in others))
+    std = math.sqrt(var_n + sum((s[i] * sigmas[i]) ** 2 for i in others))
     if not others:
         return ExactDistribution(mean=mean, std=std)
 
-    terms = [(d, float(sensitivities[i])) for i, d in others]
+    from scipy import fft, stats
+
+    terms = [(problem.marginals[i], float(s[i])) for i in others]
     if var_n > 0:
         terms.append((stats.norm(mu_n, math.sqrt(var_n)), 1.0))
-    supports = [_support(d, s) for d, s in terms]
+    supports = [_support(d, sc) for d, sc in terms]
     width = sum(hi - lo for lo, hi in supports)
     h = width / grid_points
     sizes = [int(math.ceil((hi - lo) / h)) + 1 for lo, hi in supports]
     total = sum(sizes) - len(sizes) + 1
     nfft = fft.next_fast_len(total, real=True)
     spectrum = np.ones(nfft // 2 + 1, dtype=complex)
-    for (d, s), (lo, _), n in zip(terms, supports, sizes):
-        spectrum *= fft.rfft(_binned_masses(d, s, lo, h, n), nfft)
+    for (d, sc), (lo, _), n in zip(terms, supports, sizes):
+        spectrum *= fft.rfft(_binned_masses(d, sc, lo, h, n), nfft)
     pmf = np.clip(fft.irfft(spectrum, nfft)[:total], 0.0, None)
     pmf /= pmf.sum()
     start = const + (0.0 if var_n > 0 else mu_n) + sum(lo for lo, _ in supports)

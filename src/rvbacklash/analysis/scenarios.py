@@ -3,45 +3,50 @@ section 5, Fig. 4 (a)-(d)), each scenario simulated with the same seed."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
 
-from rvbacklash.analysis.simulation import SimulationResult, simulate
+from rvbacklash.analysis.simulation import DEFAULT_SAMPLES, SimulationResult, simulate
 from rvbacklash.analysis.stackup import analyze
-from rvbacklash.design.derived import resolve_zones
 from rvbacklash.design.loading import design_from_dict
 from rvbacklash.design.schema import OPTIONAL_FACTORS, Design
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG, FACTOR_KEYS
+from rvbacklash.interrupt import stop_requested
+from rvbacklash.problem import Problem, prepare
+from rvbacklash.results import Result
 
 STAGE_KEYS = ("involute", "cycloid", "crank")
+OVERRIDE_KEYS = STAGE_KEYS + ("all", "edition") + FACTOR_KEYS
 
 
-def parse_scenario(text: str) -> tuple[str, dict[str, int | str]]:
-    """'NAME:key=value,key=value' -> (NAME, {key: value}). Keys: involute, cycloid, crank, all,
-    edition, or a factor key; values: grades (edition: 1995 | 2013)."""
-    name, sep, body = text.partition(":")
-    if not sep or not name.strip():
-        raise InputError("--scenario", text, "allowed: NAME:key=grade[,key=grade...], e.g. b:involute=5")
-    overrides: dict[str, int | str] = {}
-    for item in filter(None, (p.strip() for p in body.split(","))):
-        key, eq, value = item.partition("=")
-        key = key.strip()
-        if not eq:
-            raise InputError("--scenario", text, f"'{item}' is not key=value")
-        if key not in STAGE_KEYS + ("all", "edition") + FACTOR_KEYS:
-            raise InputError("--scenario", text, f"unknown key '{key}'; allowed: {', '.join(STAGE_KEYS)}, all, "
-                                                 f"edition, or a factor key ({', '.join(FACTOR_KEYS)})")
-        if key == "edition":
-            overrides[key] = value.strip()
-            continue
-        try:
-            overrides[key] = int(value)
-        except ValueError:
-            raise InputError("--scenario", text, f"grade of '{key}' must be an integer, got '{value.strip()}'") from None
-    return name.strip(), overrides
+@dataclass(frozen=True, repr=False)
+class Scenario(Result):
+    """A named set of grade overrides: stage keys (involute, cycloid, crank), ``all``, ``edition``
+    ("1995" | "2013") or a factor key, each with a grade."""
+
+    name: str
+    overrides: Mapping[str, int | str]
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise InputError("scenario.name", self.name, "allowed: a non-empty name")
+        if not self.overrides:
+            raise InputError(f"scenario {self.name!r}", dict(self.overrides), "allowed: at least one key=grade")
+        for key, value in self.overrides.items():
+            if key not in OVERRIDE_KEYS:
+                raise InputError(f"scenario {self.name!r}", key, f"unknown key; allowed: {', '.join(STAGE_KEYS)}, all, "
+                                                                 f"edition, or a factor key")
+            if key in OPTIONAL_FACTORS:
+                raise InputError(f"scenario {self.name!r}", key, "a designed modification has no grade")
+            if key == "edition":
+                if value not in ("1995", "2013"):
+                    raise InputError(f"scenario {self.name!r}.edition", value, "allowed: 1995, 2013")
+            elif isinstance(value, bool) or not isinstance(value, int):
+                raise InputError(f"scenario {self.name!r}.{key}", value, "allowed: an integer grade")
 
 
-def apply_overrides(design: Design, overrides: dict[str, int | str]) -> Design:
+def apply_overrides(design: Design, overrides: Mapping[str, int | str]) -> Design:
     """The design with changed grades. A stage grade does not touch explicit zones; a factor
     grade replaces that factor's explicit zone (the scenario names the factor)."""
     data = design.model_dump(exclude_none=True)
@@ -56,8 +61,6 @@ def apply_overrides(design: Design, overrides: dict[str, int | str]) -> Design:
         elif key in STAGE_KEYS:
             grades[key] = value
         else:
-            if key in OPTIONAL_FACTORS:
-                raise InputError("--scenario", key, "a designed modification has no grade")
             grades.setdefault("factors", {})[key] = value
             zone = factors.get(key)
             if zone is not None:
@@ -68,48 +71,66 @@ def apply_overrides(design: Design, overrides: dict[str, int | str]) -> Design:
     return design_from_dict(data)
 
 
-def paper_scenarios(design: Design, top: int = 3) -> list[tuple[str, dict]]:
+def paper_scenarios(problem: Problem, top: int = 3) -> list[Scenario]:
     """Fig. 4 of Sun et al. 2014: (a) grade 6 in both stages, (b) stage 1 grade 5, (c) stage 2
     grade 5, (d) grade 5 on the ``top`` factors with the largest variance share in (a)."""
     a = {"involute": 6, "cycloid": 6, "crank": 6}
-    base = apply_overrides(design, a)
-    graded = [f for f, z in zip(CATALOG, resolve_zones(base)) if not z.origin.startswith(("explicit", "second_stage"))]
+    base = prepare(apply_overrides(problem.design, a))
+    graded = [f for f, z in zip(CATALOG, base.zones) if not z.origin.startswith(("explicit", "second_stage"))]
     if not graded:
-        raise InputError("--paper", design.name, "no factor takes its tolerance from a grade; give the design a "
-                                                 "[grades] table (e.g. the rv80e example)")
+        raise InputError("paper", problem.name, "no factor takes its tolerance from a grade; give the design a "
+                                                "[grades] table (e.g. the rv80e example)")
     shares = {f.key: f.variance_share for f in analyze(base).factors}
     best = sorted(graded, key=lambda f: -shares[f.key])[:top]
     return [
-        ("a: grade 6 / 6", a),
-        ("b: stage 1 grade 5", {**a, "involute": 5}),
-        ("c: stage 2 grade 5", {**a, "cycloid": 5}),
-        (f"d: grade 5 on {', '.join(f.key for f in best)}", {**a, **{f.key: 5 for f in best}}),
+        Scenario("a: grade 6 / 6", a),
+        Scenario("b: stage 1 grade 5", {**a, "involute": 5}),
+        Scenario("c: stage 2 grade 5", {**a, "cycloid": 5}),
+        Scenario(f"d: grade 5 on {', '.join(f.key for f in best)}", {**a, **{f.key: 5 for f in best}}),
     ]
 
 
-@dataclass
-class ScenarioResult:
+@dataclass(frozen=True, repr=False)
+class ScenarioResult(Result):
     name: str
-    overrides: dict
-    tightened: int  # factors whose zone differs from the first scenario's
+    overrides: Mapping[str, int | str]
+    factors_changed: int  # factors whose zone differs from the first scenario's
     result: SimulationResult
 
-    def to_dict(self) -> dict:
-        s = self.result.stats
-        return {"name": self.name, "overrides": self.overrides, "factors_changed": self.tightened,
-                "mean_arcmin": s["mean_arcmin"], "sigma_arcmin": s["std_arcmin"],
-                "q99865_arcmin": s["quantiles"]["0.99865"]["value"],
-                "q99865_ci95": s["quantiles"]["0.99865"]["ci95"], "yield": s["yield"],
-                "method": self.result.method, "samples": self.result.samples, "seed": self.result.seed}
+    def row(self) -> dict:
+        r = self.result
+        q = r.quantiles.at(0.99865)
+        y = r.yield_
+        return {"name": self.name, "factors_changed": self.factors_changed, "mean_arcmin": r.mean_arcmin,
+                "sigma_arcmin": r.sigma_arcmin, "q99865_arcmin": q.value, "q99865_ci95_low_arcmin": q.ci95_low,
+                "q99865_ci95_high_arcmin": q.ci95_high, "yield": y.fraction if y else None,
+                "yield_ci95_low": y.ci95_low if y else None, "yield_ci95_high": y.ci95_high if y else None,
+                "overrides": ";".join(f"{k}={v}" for k, v in self.overrides.items()),
+                "samples_done": r.samples_done, "partial": r.partial}
+
+    def rows(self) -> list[dict]:
+        return [self.row()]
+
+    def summary(self) -> list[str]:
+        r = self.row()
+        return [f"{self.name}: mean {r['mean_arcmin']:.4f}, sigma {r['sigma_arcmin']:.4f}, "
+                f"q99.865 {r['q99865_arcmin']:.4f} arcmin"]
 
 
-@dataclass
-class Comparison:
+@dataclass(frozen=True, repr=False)
+class Comparison(Result):
     """The scenarios of one design, simulated alike; iterates over its ScenarioResults."""
 
     design_name: str
     spec_arcmin: float | None
-    scenarios: list[ScenarioResult]
+    model: str
+    method: str
+    seed: int | None
+    samples: int | None
+    scenarios: tuple[ScenarioResult, ...]
+    partial: bool = False  # interrupted: the last scenario is partial or scenarios are missing
+    requested: tuple[str, ...] = field(default_factory=tuple)  # names of every scenario asked for
+    _frame_index = "name"
 
     def __iter__(self):
         return iter(self.scenarios)
@@ -121,37 +142,49 @@ class Comparison:
         return self.scenarios[i]
 
     def to_dict(self) -> dict:
-        return {"design": self.design_name, "spec_arcmin": self.spec_arcmin,
-                "scenarios": [s.to_dict() for s in self.scenarios]}
+        return {"design": self.design_name, "spec_arcmin": self.spec_arcmin, "model": self.model,
+                "method": self.method, "seed": self.seed, "samples": self.samples, "partial": self.partial,
+                "scenarios_requested": list(self.requested),
+                "scenarios": [{**s.row(), "overrides": dict(s.overrides)} for s in self.scenarios]}
 
     def rows(self) -> list[dict]:
-        out = []
-        for s in self.scenarios:
-            d = s.to_dict()
-            y = d["yield"] or {"fraction": None, "ci95": [None, None]}
-            out.append({"name": d["name"], "factors_changed": d["factors_changed"], "mean_arcmin": d["mean_arcmin"],
-                        "sigma_arcmin": d["sigma_arcmin"], "q99865_arcmin": d["q99865_arcmin"],
-                        "yield": y["fraction"], "yield_ci95_low": y["ci95"][0], "yield_ci95_high": y["ci95"][1],
-                        "overrides": ";".join(f"{k}={v}" for k, v in d["overrides"].items())})
-        return out
+        return [s.row() for s in self.scenarios]
 
-    def to_frame(self):
-        """The scenario table as a pandas DataFrame indexed by name (needs pandas)."""
-        from rvbacklash.frames import to_frame
-
-        return to_frame(self.rows(), index="name")
+    def summary(self) -> list[str]:
+        head = f"{self.design_name}: {len(self.scenarios)} scenarios, {self.model} model, method {self.method}"
+        if self.partial:
+            head += f"  [PARTIAL: {len(self.scenarios)} of {len(self.requested)} scenarios, interrupted]"
+        return [head] + [line for s in self.scenarios for line in s.summary()]
 
 
-def compare(design: Design, scenarios: list[tuple[str, dict]], samples: int | None, seed: int | None,
-            method: str = "default", spec_arcmin: float | None = None, model: str = "linear") -> Comparison:
-    """Simulate every scenario with the same samples, seed and method."""
-    out = []
+def compare(problem: Problem, scenarios: list[Scenario], *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
+            method: str = "default", spec_arcmin: float | None = None, model: str = "linear",
+            workers: int | None = None, progress: Callable[[int], None] | None = None) -> Comparison:
+    """Simulate every scenario with the same samples, seed and method. Ctrl-C stops the whole
+    comparison: the scenarios finished so far (the last one possibly partial), marked partial."""
+    if not scenarios:
+        raise InputError("scenarios", [], "allowed: at least one scenario")
+    names = [s.name for s in scenarios]
+    if len(set(names)) != len(names):
+        raise InputError("scenarios", names, "allowed: distinct scenario names")
+    out: list[ScenarioResult] = []
     first_zones = None
-    for name, overrides in scenarios:
-        d = apply_overrides(design, overrides)
-        zones = [(z.lower_um, z.upper_um) for z in resolve_zones(d)]
-        first_zones = first_zones or zones
-        changed = sum(a != b for a, b in zip(zones, first_zones))
-        r = simulate(d, samples, seed, method, spec_arcmin, model=model)
-        out.append(ScenarioResult(name, overrides, changed, r))
-    return Comparison(design.name, spec_arcmin, out)
+    partial = False
+    with stop_requested() as stop:
+        for sc in scenarios:
+            if stop.is_set():
+                partial = True
+                break
+            p = prepare(apply_overrides(problem.design, sc.overrides))
+            zones = [(z.lower_um, z.upper_um) for z in p.zones]
+            first_zones = first_zones or zones
+            changed = sum(a != b for a, b in zip(zones, first_zones))
+            r = simulate(p, samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin, model=model,
+                         workers=workers, progress=progress)
+            out.append(ScenarioResult(sc.name, dict(sc.overrides), changed, r))
+            if r.partial:
+                partial = True
+                break
+    partial = partial or len(out) < len(scenarios)
+    return Comparison(problem.name, spec_arcmin, model, method, seed if method != "exact" else None,
+                      samples if method != "exact" else None, tuple(out), partial, tuple(names))

@@ -1,187 +1,301 @@
-"""Monte-Carlo simulation of a design's output backlash (Sun et al. 2014, section 4, and
-beyond): design -> factor distributions -> engine -> statistics with their uncertainty."""
+"""Monte-Carlo simulation of a prepared design (Sun et al. 2014, section 4, and beyond):
+problem -> model's block source -> engine -> statistics with their uncertainty; and the exact
+distribution of the linear model as the same kind of result.
+
+Models are block sources over a Problem (``MODELS``: name -> factory(problem, method, seed));
+adding a model is one entry. Any callable mapping (n, 21) raw factor values [um] to n outputs
+[arcmin] is accepted as well and runs through the generic (copula) path.
+"""
 
 from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field
-from typing import Callable
+from dataclasses import dataclass
+from typing import Callable, Mapping
 
 import numpy as np
 
 from rvbacklash.analysis import statistics as st
-from rvbacklash.analysis.exact import exact_distribution
-from rvbacklash.analysis.stackup import analyze
-from rvbacklash.design.derived import resolve_zones
-from rvbacklash.design.schema import Design
+from rvbacklash.analysis.exact import ExactDistribution, exact_distribution
+from rvbacklash.analysis.statistics import OutputStatistics, Proportion, Quantile, Quantiles
 from rvbacklash.errors import InputError
-from rvbacklash.factors.catalog import FACTOR_KEYS
-from rvbacklash.model.contact import ContactGeometry
-from rvbacklash.model.linear import build_linear_model
-from rvbacklash.sampling.contact_source import make_contact_source
-from rvbacklash.sampling.distributions import correlation_matrix
-from rvbacklash.sampling.engine import MAX_SAMPLES, METHODS, make_block_source, run_blocks
+from rvbacklash.problem import Problem
+from rvbacklash.results import Result
+from rvbacklash.sampling.engine import MAX_SAMPLES, METHODS, BlockSource, RawRun, linear_source, run_blocks
 from rvbacklash.sampling.inputs import build_input_transform
 
 ALL_METHODS = METHODS + ("exact",)
+DEFAULT_SAMPLES = 1_000_000
+CONVERGENCE_QUANTILE = 0.99865
 
 
 def default_workers() -> int:
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1)
 
 
-@dataclass
-class SimulationResult:
-    design_name: str
-    method: str
-    seed: int | None
-    samples: int | None
-    model: str
-    stats: dict
-    histogram: dict
-    analytic: dict
-    convergence: list[dict] = field(default_factory=list)
-    partial: bool = False
-    elapsed_s: float = 0.0
-    exact_curve: dict | None = None  # x, pdf, cdf of the exact distribution (linear model)
+# --- models ----------------------------------------------------------------------------------
 
-    def to_dict(self) -> dict:
-        s = self.stats
-        return {
-            "design": self.design_name, "model": self.model, "method": self.method,
-            "samples": self.samples, "seed": self.seed, "partial": self.partial,
-            **{k: v for k, v in s.items()},
-            "histogram": self.histogram, "convergence": self.convergence,
-            "analytic": self.analytic, "elapsed_s": self.elapsed_s,
-            "samples_per_s": (s.get("samples_done") or 0) / self.elapsed_s if self.elapsed_s > 0 else None,
-        }
+def _linear(problem: Problem, method: str, seed: int) -> BlockSource:
+    from rvbacklash.models.linear import linear_model
+
+    return linear_source(method, seed, build_input_transform(problem), linear_model(problem),
+                         problem.sensitivities_arcmin_per_um)
+
+
+def _contact(problem: Problem, method: str, seed: int) -> BlockSource:
+    from rvbacklash.sampling.contact_source import contact_source
+
+    return contact_source(problem, method, seed)
+
+
+MODELS: dict[str, Callable[[Problem, str, int], BlockSource]] = {"linear": _linear, "contact": _contact}
+
+
+# --- results ---------------------------------------------------------------------------------
+
+@dataclass(frozen=True, repr=False)
+class LinearReference(Result):
+    """The linear model's stack-up of the same design, shown beside any sampled model."""
+
+    mean_arcmin: float
+    sigma_arcmin: float
+
+
+@dataclass(frozen=True, repr=False)
+class ConvergencePoint(Result):
+    """Estimates of the primary output after ``samples`` samples (a power-of-two number of blocks)."""
+
+    samples: int
+    mean_arcmin: float
+    mean_ci95_low_arcmin: float
+    mean_ci95_high_arcmin: float
+    q99865_arcmin: float | None
+    q99865_ci95_low_arcmin: float | None
+    q99865_ci95_high_arcmin: float | None
+    yield_fraction: float | None
+    yield_ci95_low: float | None
+    yield_ci95_high: float | None
+
+
+@dataclass(frozen=True, repr=False)
+class Curve(Result):
+    """The linear model's exact distribution on a grid, drawn beside any histogram."""
+
+    x_arcmin: tuple[float, ...]
+    pdf_per_arcmin: tuple[float, ...]
+    cdf: tuple[float, ...]
 
     def rows(self) -> list[dict]:
-        """The statistics as table rows: statistic, value, 95 % interval."""
-        s = self.stats
+        return [{"x_arcmin": x, "pdf_per_arcmin": p, "cdf": c} for x, p, c in zip(self.x_arcmin, self.pdf_per_arcmin,
+                                                                                 self.cdf)]
 
-        def row(name, value, ci=(None, None)):
-            return {"statistic": name, "value": value, "ci95_low": ci[0], "ci95_high": ci[1]}
 
-        out = [row("mean_arcmin", s["mean_arcmin"], s["mean_ci95"]), row("std_arcmin", s["std_arcmin"])]
-        out += [row(f"quantile_{p}_arcmin", q["value"], q["ci95"]) for p, q in s["quantiles"].items()]
-        if s.get("yield") is not None:
-            out.append(row("yield", s["yield"]["fraction"], s["yield"]["ci95"]))
-            out += [row(k, s[k]) for k in ("ppm_out", "cp", "cpk")]
-        out.append(row("interference_fraction", s["interference_fraction"]))
+@dataclass(frozen=True, repr=False)
+class SimulationResult(Result):
+    """A Monte-Carlo run (or the exact distribution) of one design and model.
+
+    ``outputs`` holds the statistics of every output quantity, the primary one first
+    (``output``): rigid backlash for the linear and contact models.
+    """
+
+    design_name: str
+    model: str
+    method: str
+    seed: int | None
+    samples: int | None  # requested (None: exact)
+    samples_done: int | None
+    partial: bool  # interrupted (Ctrl-C): the statistics cover samples_done only
+    elapsed_s: float
+    outputs: dict[str, OutputStatistics]
+    joint_yield: Proportion | None  # P(every given spec met at once), for more than one spec
+    preload_fraction: float | None  # units whose cycloid stage is preloaded (contact model)
+    linear_reference: LinearReference
+    convergence: tuple[ConvergencePoint, ...]
+    exact_curve: Curve | None
+
+    @property
+    def output(self) -> OutputStatistics:
+        return next(iter(self.outputs.values()))
+
+    @property
+    def mean_arcmin(self) -> float:
+        return self.output.mean
+
+    @property
+    def sigma_arcmin(self) -> float:
+        return self.output.sigma
+
+    @property
+    def quantiles(self) -> Quantiles:
+        return self.output.quantiles
+
+    @property
+    def yield_(self) -> Proportion | None:
+        return self.output.yield_
+
+    @property
+    def samples_per_s(self) -> float | None:
+        return self.samples_done / self.elapsed_s if self.samples_done and self.elapsed_s > 0 else None
+
+    def rows(self) -> list[dict]:
+        out = [r for o in self.outputs.values() for r in o.rows()]
+        if self.joint_yield is not None:
+            y = self.joint_yield
+            out.append({"output": "all", "statistic": "joint yield (every spec)", "value": y.fraction,
+                        "ci95_low": y.ci95_low, "ci95_high": y.ci95_high, "unit": ""})
+        if self.preload_fraction is not None:
+            out.append({"output": "cycloid stage", "statistic": "preloaded fraction", "value": self.preload_fraction,
+                        "ci95_low": None, "ci95_high": None, "unit": ""})
         return out
 
-    def to_frame(self):
-        """The statistics as a pandas DataFrame indexed by statistic (needs pandas)."""
-        from rvbacklash.frames import to_frame
+    def summary(self) -> list[str]:
+        run = "exact distribution" if self.method == "exact" else \
+            f"{self.samples_done:,} samples, seed {self.seed}, method {self.method}"
+        head = f"{self.design_name}, {self.model} model: {run}" + ("  [PARTIAL: interrupted]" if self.partial else "")
+        lines = [head] + [line for o in self.outputs.values() for line in o.summary()]
+        if self.preload_fraction is not None:
+            lines.append(f"cycloid stage preloaded in {self.preload_fraction:.2%} of the units")
+        return lines
 
-        return to_frame(self.rows(), index="statistic")
 
+# --- parameters ------------------------------------------------------------------------------
 
-def check_run_parameters(samples: int | None, seed: int | None, method: str, spec_arcmin: float | None,
-                         quantiles: tuple[float, ...]) -> None:
+def check_run_parameters(samples, seed, method: str, spec_arcmin: float | None, quantiles, workers) -> None:
+    """Every run parameter checked, naming the Python parameter."""
     if method not in ALL_METHODS:
-        raise InputError("--method", method, f"allowed: {', '.join(ALL_METHODS)}")
+        raise InputError("method", method, f"allowed: {', '.join(ALL_METHODS)}")
     if method != "exact":
         if samples is None or isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
-            raise InputError("--samples", samples, "allowed: a whole number of samples >= 1")
+            raise InputError("samples", samples, "allowed: a whole number of samples >= 1")
         if not 1 <= samples <= MAX_SAMPLES[method]:
-            raise InputError("--samples", samples, f"allowed: 1 <= samples <= {MAX_SAMPLES[method]:.4g} "
-                                                   f"for method {method}")
+            raise InputError("samples", samples, f"allowed: 1 <= samples <= {MAX_SAMPLES[method]:.4g} "
+                                                 f"for method {method}")
         if seed is None or isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise InputError("--seed", seed, "allowed: an integer >= 0")
-    if spec_arcmin is not None and not (math.isfinite(spec_arcmin) and spec_arcmin > 0):
-        raise InputError("--spec-arcmin", spec_arcmin, "allowed: a finite number > 0 [arcmin]")
+            raise InputError("seed", seed, "allowed: an integer >= 0")
+    if spec_arcmin is not None and (isinstance(spec_arcmin, bool) or not isinstance(spec_arcmin, (int, float))
+                                    or not (math.isfinite(spec_arcmin) and spec_arcmin > 0)):
+        raise InputError("spec_arcmin", spec_arcmin, "allowed: a finite number > 0 [arcmin]")
     for p in quantiles:
-        if not (0 < p < 1):
-            raise InputError("--quantile", p, "allowed: 0 < p < 1")
+        if isinstance(p, bool) or not isinstance(p, (int, float)) or not (0 < p < 1):
+            raise InputError("quantiles", p, "allowed: probabilities 0 < p < 1")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, (int, np.integer))
+                                or workers < 1):
+        raise InputError("workers", workers, "allowed: a number of threads >= 1, or None for all cores")
 
 
-MODELS = ("linear", "contact")
+def _quantile_set(quantiles) -> tuple[float, ...]:
+    return tuple(sorted(set(float(p) for p in quantiles) | set(st.DEFAULT_QUANTILES)))
 
 
-def simulate(design: Design, samples: int | None = None, seed: int | None = None, method: str = "default",
-             spec_arcmin: float | None = None, quantiles: tuple[float, ...] = st.DEFAULT_QUANTILES,
-             workers: int | None = None, chunk_blocks: int = 4, model: str | Callable = "linear",
-             progress: Callable[[int], None] | None = None) -> SimulationResult:
-    """Simulate the output backlash [arcmin] of ``design``.
+def linear_reference(problem: Problem) -> LinearReference:
+    s, sd = problem.sensitivities_arcmin_per_um, problem.sigmas_um
+    v = s * sd
+    return LinearReference(float(s @ problem.means_um), float(math.sqrt(max(v @ problem.correlation @ v, 0.0))))
 
-    ``model``: "linear" (Eq. (2)), "contact" (geometric cycloid-pin contact with per-pin and
-    per-tooth errors, docs/contact.md), or any callable mapping (n, 21) raw factor values [um]
-    to n outputs [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol
-    (scrambled QMC), exact (convolution, linear model only). Every method is seeded; seed 0
-    is a valid seed.
+
+def _curve(ex: ExactDistribution, lo: float, hi: float, points: int = 400) -> Curve:
+    xs = np.linspace(lo, hi, points)
+    return Curve(tuple(xs.tolist()), tuple(ex.pdf(xs).tolist()), tuple(ex.cdf(xs).tolist()))
+
+
+# --- runs ------------------------------------------------------------------------------------
+
+def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0, method: str = "default",
+             spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
+             quantiles: tuple[float, ...] = (), workers: int | None = None, chunk_blocks: int = 4,
+             model: str | Callable = "linear", progress: Callable[[int], None] | None = None) -> SimulationResult:
+    """Simulate the outputs of a prepared design.
+
+    ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
+    with per-pin and per-tooth errors, docs/contact.md) or a callable (n, 21) [um] -> (n,)
+    [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol (scrambled QMC),
+    exact (the linear model's exact distribution). ``spec_arcmin`` is the upper limit of the
+    primary output; ``specs`` gives limits of other outputs by name. Every method is seeded;
+    seed 0 is a valid seed. Ctrl-C returns the finished blocks with ``partial=True``.
     """
-    quantiles = tuple(sorted(set(quantiles) | set(st.DEFAULT_QUANTILES)))
+    check_run_parameters(samples, seed, method, spec_arcmin, quantiles, workers)
+    qs = _quantile_set(quantiles)
     if isinstance(model, str) and model not in MODELS:
-        raise InputError("--model", model, f"allowed: {', '.join(MODELS)}")
-    check_run_parameters(samples, seed, method, spec_arcmin, quantiles)
-    linear = build_linear_model(design)
-    model_name = model if isinstance(model, str) else getattr(model, "__name__", "custom")
-    stack = analyze(design, linear)
-    analytic = {"model": "linear", "mean_arcmin": stack.total.mean_arcmin, "sigma_arcmin": stack.total.sigma_arcmin}
-    zones = resolve_zones(design)
-    corr = correlation_matrix(design.correlation, FACTOR_KEYS)
-    spec_or_inf = spec_arcmin if spec_arcmin is not None else math.inf
-
+        raise InputError("model", model, f"allowed: {', '.join(MODELS)}, or a callable (n, 21) -> (n,)")
     if method == "exact":
         if model != "linear":
-            raise InputError("--method", "exact", "the exact distribution exists for the linear model only")
-        return _exact_result(design.name, linear, zones, corr, spec_arcmin, quantiles, analytic)
-
-    if model == "contact":
-        source = make_contact_source(method, int(seed), ContactGeometry.from_design(design), zones,
-                                     linear.sensitivities_arcmin_per_um, not np.allclose(corr, np.eye(len(corr))))
+            raise InputError("method", "exact", "allowed with model linear only (the exact distribution of Eq. (2))")
+        return exact_result(problem, spec_arcmin=spec_arcmin, quantiles=qs)
+    if isinstance(model, str):
+        source = MODELS[model](problem, method, int(seed))
+        model_name = model
     else:
-        fn = linear if model == "linear" else model
-        source = make_block_source(method, int(seed), build_input_transform(zones, corr), fn,
-                                   linear.sensitivities_arcmin_per_um if model == "linear" else None)
+        source = linear_source(method, int(seed), build_input_transform(problem), model, None)
+        model_name = getattr(model, "__name__", "custom")
+    limits = _limits(source, spec_arcmin, specs)
+    primary = source.outputs[0]
 
-    def snapshot(m, hist) -> dict:
-        s = st.summary(m, hist, spec_or_inf, (0.99865,))
-        q = s["quantiles"]["0.99865"]
-        return {"samples": m.n, "mean_arcmin": s["mean_arcmin"], "mean_ci95": s["mean_ci95"],
-                "q99865_arcmin": q["value"], "q99865_ci95": q["ci95"],
-                "yield": s["yield"]["fraction"] if spec_arcmin is not None else None,
-                "yield_ci95": s["yield"]["ci95"] if spec_arcmin is not None else None}
+    def snapshot(run: RawRun) -> ConvergencePoint:
+        o = run.outputs[0]
+        s = st.output_statistics(o, (CONVERGENCE_QUANTILE,), limits[0] if math.isfinite(limits[0]) else None)
+        q = s.quantiles.table[0]
+        y = s.yield_
+        return ConvergencePoint(o.moments.n, s.mean, s.mean_ci95_low, s.mean_ci95_high, q.value, q.ci95_low,
+                                q.ci95_high, y.fraction if y else None, y.ci95_low if y else None,
+                                y.ci95_high if y else None)
 
-    raw = run_blocks(source, int(samples), spec_or_inf, workers or default_workers(), chunk_blocks,
-                     progress, snapshot)
-    stats = st.summary(raw.moments, raw.histogram, spec_or_inf, quantiles)
-    if spec_arcmin is None:
-        stats.update({"spec_arcmin": None, "yield": None, "ppm_out": None, "cp": None, "cpk": None})
-    hist = st.coarse_histogram(raw.histogram, raw.moments.n)
-    curve = None  # the linear model's exact distribution, drawn beside any sampled model
-    try:
-        ex = exact_distribution(linear.sensitivities_arcmin_per_um, zones, corr)
-        xs = np.linspace(hist["edges"][0], hist["edges"][-1], 400)
-        curve = {"x": xs.tolist(), "pdf": ex.pdf(xs).tolist(), "cdf": ex.cdf(xs).tolist()}
-    except InputError:  # correlated non-normal inputs: no exact curve
-        pass
-    return SimulationResult(design.name, method, int(seed), int(samples), model_name, stats, hist, analytic,
-                            raw.convergence, raw.partial, raw.elapsed_s, curve)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        raw = run_blocks(source, int(samples), limits, workers or default_workers(), chunk_blocks, progress, snapshot)
+        outputs = {o.output.name: st.output_statistics(o, qs, lim if math.isfinite(lim) else None)
+                   for o, lim in zip(raw.outputs, limits)}
+    n_specs = sum(math.isfinite(x) for x in limits)
+    joint = Proportion.sampled(raw.n_joint_pass, raw.samples) if n_specs > 1 and raw.samples else None
+    free = outputs.get("backlash_free")
+    preload = 1.0 - free.samples / raw.samples if free is not None and raw.samples else None
+    curve = None
+    if primary.unit == "arcmin":  # the linear model's exact distribution, drawn beside any sampled model
+        try:
+            hist = outputs[primary.name].histogram
+            curve = _curve(exact_distribution(problem), hist.edges[0], hist.edges[-1])
+        except InputError:  # correlated non-normal inputs: no exact curve
+            pass
+    return SimulationResult(problem.name, model_name, method, int(seed), int(samples), raw.samples, raw.partial,
+                            raw.elapsed_s, outputs, joint, preload, linear_reference(problem),
+                            tuple(raw.convergence), curve)
 
 
-def _exact_result(name, linear, zones, corr, spec, quantiles, analytic) -> SimulationResult:
-    ex = exact_distribution(linear.sensitivities_arcmin_per_um, zones, corr)
-    qs = {f"{p:g}": {"value": float(ex.ppf(p)), "ci95": [float(ex.ppf(p))] * 2} for p in quantiles}
-    stats = {"samples_done": None, "mean_arcmin": ex.mean, "mean_ci95": [ex.mean, ex.mean], "std_arcmin": ex.std,
-             "min_arcmin": None, "max_arcmin": None, "quantiles": qs, "spec_arcmin": spec,
-             "yield": None, "ppm_out": None, "cp": None, "cpk": None,
-             "interference_fraction": float(ex.cdf(0.0))}
-    if spec is not None:
-        frac = float(ex.cdf(spec))
-        cp, cpk = st.process_capability(ex.mean, ex.std, spec)
-        stats.update({"yield": {"fraction": frac, "ci95": [frac, frac], "count": None},
-                      "ppm_out": (1 - frac) * 1e6, "cp": cp, "cpk": cpk})
-    lo, hi = float(ex.ppf(1e-6)), float(ex.ppf(1 - 1e-6))
-    if hi <= lo:
+def _limits(source: BlockSource, spec_arcmin: float | None, specs: Mapping[str, float] | None) -> tuple[float, ...]:
+    names = [o.name for o in source.outputs]
+    given = dict(specs or {})
+    for name, value in given.items():
+        if name not in names:
+            raise InputError("specs", name, f"allowed outputs of this model: {', '.join(names)}")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise InputError(f"specs[{name!r}]", value, "allowed: a finite number")
+    if spec_arcmin is not None:
+        given[names[0]] = spec_arcmin
+    return tuple(float(given[o.name]) if o.name in given else (math.inf if o.upper_limit else -math.inf)
+                 for o in source.outputs)
+
+
+def exact_result(problem: Problem, *, spec_arcmin: float | None = None,
+                 quantiles: tuple[float, ...] = ()) -> SimulationResult:
+    """The linear model's exact output distribution as a SimulationResult (method "exact")."""
+    check_run_parameters(None, None, "exact", spec_arcmin, quantiles, None)
+    ex = exact_distribution(problem)
+    qs = _quantile_set(quantiles)
+    values = ex.ppf(np.array(qs))
+    table = tuple(Quantile(p, float(v), float(v), float(v)) for p, v in zip(qs, values))
+    y = cp = cpk = ppm = None
+    if spec_arcmin is not None:
+        frac = float(ex.cdf(spec_arcmin))
+        y = Proportion.exact(frac)
+        cp, cpk = st.process_capability(ex.mean, ex.std, spec_arcmin)
+        ppm = (1 - frac) * 1e6
+    lo, hi = (float(v) for v in ex.ppf(np.array([1e-6, 1 - 1e-6])))
+    if not hi > lo:
         lo, hi = ex.mean - 1.0, ex.mean + 1.0
     edges = np.linspace(lo, hi, 201)
     centres = 0.5 * (edges[1:] + edges[:-1])
-    hist = {"edges": edges.tolist(), "counts": None, "density": ex.pdf(centres).tolist(),
-            "underflow": None, "overflow": None}
-    xs = np.linspace(lo, hi, 400)
-    curve = {"x": xs.tolist(), "pdf": ex.pdf(xs).tolist(), "cdf": ex.cdf(xs).tolist()}
-    return SimulationResult(name, "exact", None, None, "linear", stats, hist, analytic, [], False, 0.0, curve)
+    hist = st.HistogramData("arcmin", tuple(edges.tolist()), None, tuple(ex.pdf(centres).tolist()), None, None)
+    out = OutputStatistics("backlash", "arcmin", "output backlash (rigid lost motion)", None, ex.mean, ex.mean,
+                           ex.mean, ex.std, None, None, Quantiles("arcmin", table), spec_arcmin, True, y, ppm, cp,
+                           cpk, float(ex.cdf(0.0)), hist)
+    return SimulationResult(problem.name, "linear", "exact", None, None, None, False, 0.0, {"backlash": out}, None,
+                            None, LinearReference(ex.mean, ex.std), (), _curve(ex, lo, hi))

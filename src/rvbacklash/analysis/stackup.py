@@ -3,16 +3,15 @@ worst case and RSS side by side, per factor, per stage and in total."""
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from rvbacklash.analysis.sensitivity import normalised_weights, rank_descending, variance_shares
-from rvbacklash.design.derived import DerivedGeometry, ResolvedZone, resolve_zones
-from rvbacklash.design.schema import Design
-from rvbacklash.factors.catalog import CATALOG, FACTOR_KEYS, Stage
-from rvbacklash.model.linear import LinearModel, build_linear_model
-from rvbacklash.sampling.distributions import correlation_matrix, input_moments
+from rvbacklash.factors.catalog import CATALOG, Stage
+from rvbacklash.geometry.reducer import DerivedGeometry
+from rvbacklash.problem import Problem
+from rvbacklash.results import Result
 
 
 # --- formulas ---------------------------------------------------------------------------
@@ -46,8 +45,8 @@ def rss_half_width(coefficients: np.ndarray, lower: np.ndarray, upper: np.ndarra
 
 # --- results ------------------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class FactorResult:
+@dataclass(frozen=True, repr=False)
+class FactorResult(Result):
     id: int
     key: str
     name: str
@@ -72,9 +71,13 @@ class FactorResult:
     worst_case_arcmin: float  # contribution at the zone limit that widens backlash
     note: str = ""
 
+    def summary(self) -> list[str]:
+        return [f"[{self.id}] {self.key}: mean {self.mean_arcmin:.4f} arcmin, sigma {self.sigma_arcmin:.4f}, "
+                f"variance share {self.variance_share:.1%} (rank {self.rank})"]
 
-@dataclass(frozen=True)
-class StageResult:
+
+@dataclass(frozen=True, repr=False)
+class StageResult(Result):
     stage: str
     coefficient_arcmin_per_um: float
     mean_um: float
@@ -84,9 +87,12 @@ class StageResult:
     worst_case_arcmin: float
     variance_share: float
 
+    def summary(self) -> list[str]:
+        return [f"{self.stage}: mean {self.mean_arcmin:.4f} arcmin, sigma {self.sigma_arcmin:.4f}"]
 
-@dataclass(frozen=True)
-class TotalResult:
+
+@dataclass(frozen=True, repr=False)
+class TotalResult(Result):
     mean_arcmin: float
     sigma_arcmin: float
     minus3sigma_arcmin: float
@@ -96,31 +102,40 @@ class TotalResult:
     rss_arcmin: float  # zone centres + RSS of half-zones (upper RSS limit)
     rss_half_width_arcmin: float
 
+    def summary(self) -> list[str]:
+        return [f"mean {self.mean_arcmin:.4f} arcmin, sigma {self.sigma_arcmin:.4f}, mean + 3 sigma "
+                f"{self.plus3sigma_arcmin:.4f}, worst case {self.worst_case_arcmin:.4f}, RSS {self.rss_arcmin:.4f}"]
 
-@dataclass(frozen=True)
-class StackupResult:
+
+@dataclass(frozen=True, repr=False)
+class StackupResult(Result):
+    """Stack-up and sensitivities of the linear model; ``rows()`` / ``to_frame()`` give the factor
+    table (the paper's Table 2, extended), indexed by the Table 2 id."""
+
     design_name: str
     geometry: DerivedGeometry
     factors: tuple[FactorResult, ...]
     stages: dict[str, StageResult]
     total: TotalResult
     notes: dict[str, str] = field(default_factory=dict)
+    _frame_index = "id"
 
     def to_dict(self) -> dict:
-        g = self.geometry.to_dict()
         return {
-            "design": {"name": self.design_name, **g},
-            "factors": [asdict(f) for f in self.factors],
-            "stages": {k: asdict(v) for k, v in self.stages.items()},
-            "total": asdict(self.total),
+            "design": {"name": self.design_name, **self.geometry.to_dict()},
+            "factors": [f.to_dict() for f in self.factors],
+            "stages": {k: v.to_dict() for k, v in self.stages.items()},
+            "total": self.total.to_dict(),
             "notes": dict(self.notes),
         }
 
-    def to_frame(self):
-        """The factor table as a pandas DataFrame indexed by the Table 2 id (needs pandas)."""
-        from rvbacklash.frames import to_frame
+    def rows(self) -> list[dict]:
+        return [f.to_dict() for f in self.factors]
 
-        return to_frame([asdict(f) for f in self.factors], index="id")
+    def summary(self) -> list[str]:
+        top = sorted(self.factors, key=lambda f: f.rank)[:3]
+        return [f"{self.design_name}: " + self.total.summary()[0],
+                "largest variance shares: " + ", ".join(f"{f.key} {f.variance_share:.1%}" for f in top)]
 
 
 NOTES = {
@@ -133,17 +148,16 @@ NOTES = {
 }
 
 
-def analyze(design: Design, model: LinearModel | None = None) -> StackupResult:
-    """Deterministic analysis of a design: stack-up and sensitivities of the linear model."""
-    model = model or build_linear_model(design)
-    zones: tuple[ResolvedZone, ...] = resolve_zones(design)
-    mu_x, sd_x = input_moments(zones)
-    corr = correlation_matrix(design.correlation, FACTOR_KEYS)
+def analyze(problem: Problem) -> StackupResult:
+    """Deterministic analysis of a prepared design: stack-up and sensitivities of the linear model."""
+    zones = problem.zones
+    mu_x, sd_x = problem.means_um, problem.sigmas_um
+    corr = problem.correlation
     lo = np.array([z.lower_um for z in zones])
     hi = np.array([z.upper_um for z in zones])
-    gains = model.gains_um_per_um
-    coef = model.stage_coefficients_arcmin_per_um
-    sens = model.sensitivities_arcmin_per_um
+    gains = problem.gains_um_per_um
+    coef = problem.stage_coefficients_arcmin_per_um
+    sens = problem.sensitivities_arcmin_per_um
     weights = normalised_weights(sens)
     shares = variance_shares(sens, sd_x)
     ranks = rank_descending(shares, np.abs(sens))
@@ -166,7 +180,7 @@ def analyze(design: Design, model: LinearModel | None = None) -> StackupResult:
 
     stages = {}
     for s in Stage:
-        m = model.stages == int(s)
+        m = problem.stage_mask(s)
         stages[s.label] = StageResult(
             stage=s.label,
             coefficient_arcmin_per_um=float(coef[m][0]),
@@ -189,7 +203,7 @@ def analyze(design: Design, model: LinearModel | None = None) -> StackupResult:
         rss_arcmin=linear_mean(sens, (lo + hi) / 2) + rss_hw, rss_half_width_arcmin=rss_hw,
     )
     notes = dict(NOTES)
-    if design.correlation is not None:
-        notes["correlation"] = (f"correlated factors {', '.join(design.correlation.factors)}: sigma includes the "
-                                "covariances; variance_share is the share of the independent part")
-    return StackupResult(design.name, model.geometry, factors, stages, total, notes)
+    if problem.design.correlation is not None:
+        notes["correlation"] = (f"correlated factors {', '.join(problem.design.correlation.factors)}: sigma "
+                                "includes the covariances; variance_share is the share of the independent part")
+    return StackupResult(problem.name, problem.geometry, factors, stages, total, notes)

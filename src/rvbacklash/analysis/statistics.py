@@ -1,26 +1,172 @@
-"""Statistics of a Monte-Carlo run with their uncertainty.
+"""Statistics of a Monte-Carlo run with their uncertainty, as typed results.
 
 - quantiles from the fixed-bin histogram (linear inside a bin; the bin width is ~1e-4
   standard deviations), with a distribution-free 95 % interval from order statistics: the
   ranks l, u with Binomial(N, p) probabilities 2.5 % / 97.5 % bracket the p-quantile
   (Hahn & Meeker, Statistical Intervals, 1991, ch. 5);
-- yield P(backlash <= spec) with the Wilson score interval (scipy.stats.binomtest);
-- Cp, Cpk against the spec as upper limit and 0 arcmin as lower limit (lost motion cannot be
+- yield P(value meets the spec) with the Wilson score interval (Wilson 1927; Brown, Cai &
+  DasGupta, Stat. Sci. 16 (2001) 101);
+- Cp, Cpk against the spec as upper limit and 0 as lower limit (lost motion cannot be
   negative; below 0 the parts interfere).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
+from statistics import NormalDist
 
 import numpy as np
-from scipy import stats
 
-from rvbacklash.sampling.engine import Histogram, Moments
+from rvbacklash.results import Result
+from rvbacklash.sampling.engine import Histogram, Moments, RawOutput
 
 DEFAULT_QUANTILES = (0.00135, 0.5, 0.99865)
 Z95 = 1.959963984540054
 
+
+# --- typed pieces --------------------------------------------------------------------------
+
+@dataclass(frozen=True, repr=False)
+class Quantile(Result):
+    """The p-quantile of an output [its unit] and its 95 % interval (None outside the histogram)."""
+
+    probability: float
+    value: float | None
+    ci95_low: float | None
+    ci95_high: float | None
+
+    def summary(self) -> list[str]:
+        return [f"q({self.probability:g}) = {_num(self.value)} [{_num(self.ci95_low)}, {_num(self.ci95_high)}]"]
+
+
+@dataclass(frozen=True, repr=False)
+class Quantiles(Result):
+    """A small table of quantiles of one output; ``at(p)`` looks one up."""
+
+    unit: str
+    table: tuple[Quantile, ...]
+
+    def at(self, probability: float) -> Quantile:
+        for q in self.table:
+            if math.isclose(q.probability, probability, rel_tol=1e-12, abs_tol=1e-15):
+                return q
+        raise KeyError(f"no quantile {probability!r}; computed: {', '.join(f'{q.probability:g}' for q in self.table)}")
+
+    def __iter__(self):
+        return iter(self.table)
+
+    def __len__(self) -> int:
+        return len(self.table)
+
+    def to_dict(self) -> dict:
+        return {"unit": self.unit, "table": [q.to_dict() for q in self.table]}
+
+    def rows(self) -> list[dict]:
+        return [{**q.to_dict(), "unit": self.unit} for q in self.table]
+
+    def summary(self) -> list[str]:
+        return [line for q in self.table for line in q.summary()]
+
+
+@dataclass(frozen=True, repr=False)
+class Proportion(Result):
+    """A fraction with its 95 % (Wilson) interval; ``count`` of ``total`` when sampled."""
+
+    fraction: float
+    ci95_low: float
+    ci95_high: float
+    count: int | None = None
+    total: int | None = None
+
+    @classmethod
+    def exact(cls, fraction: float) -> "Proportion":
+        return cls(fraction, fraction, fraction)
+
+    @classmethod
+    def sampled(cls, count: int, total: int) -> "Proportion":
+        lo, hi = wilson_interval(count, total)
+        return cls(count / total if total else math.nan, lo, hi, int(count), int(total))
+
+    def summary(self) -> list[str]:
+        return [f"{self.fraction:.6%} [{self.ci95_low:.6%}, {self.ci95_high:.6%}]"]
+
+
+@dataclass(frozen=True, repr=False)
+class HistogramData(Result):
+    """Histogram of an output for plots and files: bin edges [unit], counts (None for an exact
+    distribution), density [1/unit], values below / above the range."""
+
+    unit: str
+    edges: tuple[float, ...]
+    counts: tuple[int, ...] | None
+    density: tuple[float, ...]
+    underflow: int | None
+    overflow: int | None
+
+    def rows(self) -> list[dict]:
+        counts = self.counts or (None,) * len(self.density)
+        return [{"low": lo, "high": hi, "count": c, "density": d, "unit": self.unit}
+                for lo, hi, c, d in zip(self.edges[:-1], self.edges[1:], counts, self.density)]
+
+    def summary(self) -> list[str]:
+        return [f"{len(self.density)} bins over [{self.edges[0]:.4g}, {self.edges[-1]:.4g}] {self.unit}"]
+
+
+@dataclass(frozen=True, repr=False)
+class OutputStatistics(Result):
+    """Every statistic of one output quantity of a run (values in ``unit``)."""
+
+    quantity: str  # backlash | backlash_free | preload | lost_motion | rigidity ...
+    unit: str
+    description: str
+    samples: int | None  # values counted (a conditional output counts fewer than the run); None: exact
+    mean: float
+    mean_ci95_low: float
+    mean_ci95_high: float
+    sigma: float
+    min: float | None
+    max: float | None
+    quantiles: Quantiles
+    spec_limit: float | None
+    spec_is_upper: bool
+    yield_: Proportion | None = field(metadata={"key": "yield"})
+    ppm_out: float | None
+    cp: float | None
+    cpk: float | None
+    negative_fraction: float | None  # share of values below 0
+    histogram: HistogramData
+
+    def rows(self) -> list[dict]:
+        def row(name, value, lo=None, hi=None, unit=self.unit):
+            return {"output": self.quantity, "statistic": name, "value": value, "ci95_low": lo, "ci95_high": hi,
+                    "unit": unit}
+
+        out = [row("samples", self.samples, unit=""), row("mean", self.mean, self.mean_ci95_low, self.mean_ci95_high),
+               row("sigma", self.sigma), row("min", self.min), row("max", self.max)]
+        out += [row(f"quantile {q.probability:g}", q.value, q.ci95_low, q.ci95_high) for q in self.quantiles]
+        if self.yield_ is not None:
+            side = "<=" if self.spec_is_upper else ">="
+            out.append(row(f"yield ({side} {self.spec_limit:g})", self.yield_.fraction, self.yield_.ci95_low,
+                           self.yield_.ci95_high, unit=""))
+            out += [row("ppm out of spec", self.ppm_out, unit=""), row("Cp", self.cp, unit=""),
+                    row("Cpk", self.cpk, unit="")]
+        return out
+
+    def summary(self) -> list[str]:
+        top = self.quantiles.table[-1]
+        line = (f"{self.quantity} [{self.unit}]: mean {_num(self.mean)}, sigma {_num(self.sigma)}, "
+                f"q{top.probability:g} {_num(top.value)}")
+        if self.yield_ is not None:
+            line += f", yield {self.yield_.fraction:.4%}"
+        return [line]
+
+
+def _num(x) -> str:
+    return "-" if x is None else f"{x:.4g}"
+
+
+# --- formulas ------------------------------------------------------------------------------
 
 def order_statistic(hist: Histogram, k: int) -> float | None:
     """Value of the k-th smallest sample (1-based), spread evenly inside its bin; None when
@@ -35,69 +181,77 @@ def order_statistic(hist: Histogram, k: int) -> float | None:
     return float(hist.lo + (j - 1 + frac) * width)
 
 
-def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95) -> dict:
-    """{"value", "ci95"} of the p-quantile of n samples summarised in ``hist``."""
+def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95) -> Quantile:
+    """The p-quantile of n samples summarised in ``hist``, with its order-statistic interval."""
+    from scipy import stats
+
+    if n == 0:
+        return Quantile(p, None, None, None)
     k = min(max(math.ceil(p * n), 1), n)
     alpha = 1.0 - confidence
     lo_rank = int(stats.binom.ppf(alpha / 2, n, p))
     hi_rank = int(stats.binom.ppf(1 - alpha / 2, n, p)) + 1
     lo_rank, hi_rank = min(max(lo_rank, 1), n), min(max(hi_rank, 1), n)
-    return {"value": order_statistic(hist, k),
-            "ci95": [order_statistic(hist, lo_rank), order_statistic(hist, hi_rank)]}
+    return Quantile(p, order_statistic(hist, k), order_statistic(hist, lo_rank), order_statistic(hist, hi_rank))
 
 
-def wilson_interval(successes: int, n: int, confidence: float = 0.95) -> list[float]:
-    """Wilson score interval of a binomial proportion (scipy.stats.binomtest)."""
-    ci = stats.binomtest(int(successes), int(n)).proportion_ci(confidence_level=confidence, method="wilson")
-    return [float(ci.low), float(ci.high)]
+def wilson_interval(successes: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion [-]:
+    (p + z²/2n ± z sqrt(p(1-p)/n + z²/4n²)) / (1 + z²/n), z the normal quantile.
+    Source: Wilson, JASA 22 (1927) 209. Parameters: successes <= n, n >= 1."""
+    if n <= 0:
+        return (math.nan, math.nan)
+    z = Z95 if confidence == 0.95 else NormalDist().inv_cdf(0.5 + confidence / 2)
+    p = successes / n
+    denom = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return (max(0.0, centre - half), min(1.0, centre + half))
 
 
 def process_capability(mean: float, std: float, upper: float, lower: float = 0.0) -> tuple[float | None, float | None]:
     """Cp = (USL - LSL) / (6 sigma), Cpk = min(USL - mu, mu - LSL) / (3 sigma).
-    Parameters in [arcmin]; None when sigma = 0."""
-    if std <= 0:
+    Source: ISO 22514-2:2017 (capability indices). Parameters in the output's unit; None when
+    sigma = 0 or a limit is missing."""
+    if not std > 0 or not math.isfinite(upper):
         return None, None
     return (upper - lower) / (6.0 * std), min(upper - mean, mean - lower) / (3.0 * std)
 
 
-def summary(m: Moments, hist: Histogram, spec: float, quantiles=DEFAULT_QUANTILES) -> dict:
-    """Every statistic of a (possibly partial) run as plain numbers."""
-    n = m.n
-    std = math.sqrt(m.m2 / (n - 1)) if n > 1 else 0.0
-    half = Z95 * std / math.sqrt(n) if n > 0 else math.nan
-    cp, cpk = process_capability(m.mean, std, spec)
-    frac = m.n_le_spec / n
-    return {
-        "samples_done": n,
-        "mean_arcmin": m.mean,
-        "mean_ci95": [m.mean - half, m.mean + half],
-        "std_arcmin": std,
-        "min_arcmin": m.min,
-        "max_arcmin": m.max,
-        "quantiles": {f"{p:g}": quantile_with_ci(hist, n, p) for p in quantiles},
-        "spec_arcmin": spec,
-        "yield": {"fraction": frac, "ci95": wilson_interval(m.n_le_spec, n), "count": m.n_le_spec},
-        "ppm_out": (1.0 - frac) * 1e6,
-        "cp": cp,
-        "cpk": cpk,
-        "interference_fraction": m.n_negative / n,
-    }
-
-
-def coarse_histogram(hist: Histogram, n: int, bins: int = 200, lo: float | None = None,
-                     hi: float | None = None) -> dict:
-    """Re-binned histogram for plots and JSON: edges [arcmin], counts, density [1/arcmin].
-    Default range: the observed span of the samples; under/overflow reported separately."""
+def coarse_histogram(hist: Histogram, n: int, unit: str, bins: int = 200) -> HistogramData:
+    """Re-binned histogram over the observed span of the samples; under/overflow kept apart."""
     fine_edges = hist.edges
     inner = hist.counts[1:-1]
     nz = np.nonzero(inner)[0]
-    if lo is None or hi is None:
-        lo = fine_edges[nz[0]] if nz.size else hist.lo
-        hi = fine_edges[nz[-1] + 1] if nz.size else hist.hi
+    lo = fine_edges[nz[0]] if nz.size else hist.lo
+    hi = fine_edges[nz[-1] + 1] if nz.size else hist.hi
     edges = np.linspace(lo, hi, bins + 1)
     centres = 0.5 * (fine_edges[:-1] + fine_edges[1:])
     counts, _ = np.histogram(centres, bins=edges, weights=inner)
     width = edges[1] - edges[0]
-    return {"edges": edges.tolist(), "counts": counts.astype(np.int64).tolist(),
-            "density": (counts / (n * width)).tolist() if n else None,
-            "underflow": int(hist.counts[0]), "overflow": int(hist.counts[-1])}
+    density = counts / (n * width) if n and width > 0 else np.zeros(bins)
+    return HistogramData(unit, tuple(edges.tolist()), tuple(int(c) for c in counts), tuple(density.tolist()),
+                         int(hist.counts[0]), int(hist.counts[-1]))
+
+
+def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float | None = None) -> OutputStatistics:
+    """Every statistic of one output of a (possibly partial) run."""
+    m: Moments = raw.moments
+    o = raw.output
+    n = m.n
+    std = math.sqrt(m.m2 / (n - 1)) if n > 1 else 0.0
+    half = Z95 * std / math.sqrt(n) if n > 1 else math.nan
+    mean = m.mean if n else math.nan
+    if spec is not None and n:
+        frac = m.n_pass / n
+        y = Proportion.sampled(m.n_pass, n)
+        cp, cpk = process_capability(mean, std, spec) if o.upper_limit else (None, None)
+        ppm = (1.0 - frac) * 1e6
+    else:
+        y, cp, cpk, ppm = None, None, None, None
+    return OutputStatistics(
+        o.name, o.unit, o.description, n, mean, mean - half, mean + half, std,
+        m.min if n else None, m.max if n else None,
+        Quantiles(o.unit, tuple(quantile_with_ci(raw.histogram, n, p) for p in quantiles)),
+        spec, o.upper_limit, y, ppm, cp, cpk, m.n_negative / n if n else None,
+        coarse_histogram(raw.histogram, n, o.unit))

@@ -39,7 +39,7 @@ def read_design_text(source: str | Path) -> tuple[str, str]:
     path = Path(source)
     if path.is_file():
         try:
-            return path.read_text(encoding="utf-8"), str(path)
+            return path.read_text(encoding="utf-8-sig"), str(path)  # -sig: a UTF-8 BOM is not content
         except (OSError, UnicodeDecodeError) as e:
             raise InputError("design", str(source), f"cannot read file ({e})") from None
     if str(source) in available_examples():
@@ -53,9 +53,16 @@ def load_design(source: str | Path) -> Design:
     return design_from_toml(text, origin)
 
 
+def load_design_source(source: str | Path) -> tuple[Design, str, str]:
+    """(validated Design, origin label, TOML text) for a path or example name; the text is what
+    a report fingerprints (sha256)."""
+    text, origin = read_design_text(source)
+    return design_from_toml(text, origin), origin, text
+
+
 def design_from_toml(text: str, origin: str = "<string>") -> Design:
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))
     except tomllib.TOMLDecodeError as e:
         raise InputError(origin, allowed=f"malformed TOML: {e}") from None
     return design_from_dict(data)

@@ -12,13 +12,16 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
-from rvbacklash.design import geometry
-from rvbacklash.model.cycloid_geometry import PinCentreCurve
+from rvbacklash.factors import distributions
 from rvbacklash.factors.catalog import CATALOG
+from rvbacklash.geometry import reducer as geometry
+from rvbacklash.geometry.cycloid import PinCentreCurve
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+    # strict: no silent coercion (``planets = true`` is not 1 planet, "5" is not 5); an integer
+    # is still accepted where a number is expected.
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, strict=True)
 
 
 class FirstStage(_Strict):
@@ -91,29 +94,19 @@ class CrankStage(_Strict):
         None, gt=0, le=500, description="crank bearing bore [mm]; needed for its clearance from a grade")
 
 
-DISTRIBUTIONS = ("normal", "uniform", "truncated_normal", "rayleigh", "fixed")
-
-
 class ToleranceZone(_Strict):
     """Tolerance zone of one factor's raw quantity [um] and its statistical reading.
 
     Zone: ``lower_um`` and ``upper_um``, or ``plus_minus_um`` (symmetric about 0).
-    Reading (``distribution``), each with its own named parameters (docs/distributions.md):
-
-    - ``normal`` (default, Sun et al. 2014 Eq. (4)-(5)): mean = zone centre, sigma = zone
-      width / 6; ``mean_um`` / ``sigma_um`` override.
-    - ``uniform``: uniform over the zone.
-    - ``truncated_normal``: the normal above (same overrides), truncated to the zone.
-    - ``rayleigh``: for magnitude-type errors (run-outs, eccentricities, misalignments):
-      scale such that 99.73 % of magnitudes lie within the zone; ``scale_um`` overrides.
-    - ``fixed``: a deterministic value, ``value_um`` or the zone centre.
+    Reading (``distribution``): one of the registry ``rvbacklash.factors.distributions``,
+    each with its own named parameters (docs/distributions.md).
     """
 
     lower_um: float | None = Field(None, ge=-10000, le=10000, description="lower limit [um]")
     upper_um: float | None = Field(None, ge=-10000, le=10000, description="upper limit [um]")
     plus_minus_um: float | None = Field(None, ge=0, le=10000, description="symmetric half-width [um]")
-    distribution: Literal["normal", "uniform", "truncated_normal", "rayleigh", "fixed"] = Field(
-        "normal", description="statistical reading of the zone")
+    distribution: Literal[distributions.NAMES] = Field(  # type: ignore[valid-type]
+        "normal", description="statistical reading of the zone: " + ", ".join(distributions.NAMES))
     mean_um: float | None = Field(None, ge=-10000, le=10000,
                                   description="normal / truncated_normal: mean [um]; default zone centre")
     sigma_um: float | None = Field(None, gt=0, le=10000,
@@ -132,14 +125,13 @@ class ToleranceZone(_Strict):
             raise ValueError("give both lower_um and upper_um")
         if has_limits and self.lower_um > self.upper_um:
             raise ValueError(f"lower_um = {self.lower_um} > upper_um = {self.upper_um}: allowed lower_um <= upper_um")
-        owners = {"mean_um": ("normal", "truncated_normal"), "sigma_um": ("normal", "truncated_normal"),
-                  "scale_um": ("rayleigh",), "value_um": ("fixed",)}
-        for name, allowed in owners.items():
-            if getattr(self, name) is not None and self.distribution not in allowed:
+        reading = distributions.distribution(self.distribution)
+        for name in distributions.PARAMETERS:
+            if getattr(self, name) is not None and name not in reading.parameters:
+                allowed = [d.name for d in distributions.REGISTRY.values() if name in d.parameters]
                 raise ValueError(f"{name} = {getattr(self, name)} does not apply to distribution "
                                  f"'{self.distribution}'; allowed with: {', '.join(allowed)}")
-        if self.limits_um is not None and self.distribution in ("uniform", "truncated_normal") \
-                and self.limits_um[0] == self.limits_um[1]:
+        if self.limits_um is not None and reading.needs_width and self.limits_um[0] == self.limits_um[1]:
             raise ValueError(f"distribution '{self.distribution}' needs a zone of non-zero width; "
                              f"got [{self.limits_um[0]}, {self.limits_um[1]}]")
         if self.distribution == "truncated_normal" and self.mean_um is not None and self.limits_um is not None:
@@ -280,13 +272,14 @@ class Design(_Strict):
         return self
 
     @model_validator(mode="after")
-    def _rayleigh_only_for_magnitudes(self) -> "Design":
+    def _distribution_fits_the_factor(self) -> "Design":
         for f in CATALOG:
             zone = getattr(self.factors, f.key)
-            if zone is not None and zone.distribution == "rayleigh" and f.kind not in ("magnitude", "phase"):
-                allowed = ", ".join(g.key for g in CATALOG if g.kind in ("magnitude", "phase"))
-                raise ValueError(f"factors.{f.key}.distribution = 'rayleigh': a Rayleigh law is for magnitude-type "
-                                 f"errors; allowed for: {allowed}")
+            kinds = distributions.distribution(zone.distribution).kinds if zone is not None else None
+            if kinds is not None and f.kind not in kinds:
+                allowed = ", ".join(g.key for g in CATALOG if g.kind in kinds)
+                raise ValueError(f"factors.{f.key}.distribution = '{zone.distribution}': a {zone.distribution} law "
+                                 f"is for errors of kind {' or '.join(kinds)}; allowed for: {allowed}")
             if zone is not None and zone.distribution == "rayleigh" and f.kind == "magnitude" and \
                     zone.limits_um is not None and zone.limits_um[1] <= zone.limits_um[0]:
                 raise ValueError(f"factors.{f.key}: rayleigh needs a zone [lower, upper] with upper > lower")

@@ -1,5 +1,3 @@
-"""The 21 error factors of Sun et al. 2014, Table 1: catalog and transfer formulas."""
-
-from rvbacklash.factors.catalog import CATALOG, FACTOR_KEYS, Factor, Stage, factor_by_key
-
-__all__ = ["CATALOG", "FACTOR_KEYS", "Factor", "Stage", "factor_by_key"]
+"""The 21 error factors of Sun et al. 2014, Table 1: the catalog (``catalog``), their transfer
+formulas (``transfers``), Eq. (1) (``output``) and the readings of a tolerance zone
+(``distributions``)."""

@@ -10,15 +10,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rvbacklash.factors import transfers as t
-
-if TYPE_CHECKING:
-    from rvbacklash.design.derived import DerivedGeometry
+import rvbacklash.factors.transfers as t
+from rvbacklash.geometry.reducer import DerivedGeometry
 
 
 class Stage(IntEnum):
@@ -33,7 +31,7 @@ class Stage(IntEnum):
         return {1: "involute", 2: "cycloid", 3: "crank"}[self.value]
 
 
-Transfer = Callable[[ArrayLike, "DerivedGeometry"], np.ndarray]
+Transfer = Callable[[ArrayLike, DerivedGeometry], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -57,7 +55,7 @@ class Factor:
     # "clearance": a fit's clearance. Decides which input distributions make sense.
     kind: str = "signed"
 
-    def gain(self, geometry: "DerivedGeometry") -> float:
+    def gain(self, geometry: DerivedGeometry) -> float:
         """d(backlash)/d(raw) [um/um]; every transfer is linear through zero."""
         return float(self.transfer(1.0, geometry))
 

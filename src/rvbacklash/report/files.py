@@ -1,70 +1,109 @@
 """Writing result files atomically: everything is rendered first, then each file is written
-to a temporary sibling and renamed, so a failure never leaves a half-written file."""
+to a temporary sibling and renamed, so a failure never leaves a half-written file.
+
+A path is a new file or an existing *regular* file (replaced only with ``force``); a symlink is
+followed and its target replaced; FIFOs, devices, sockets and directories are refused. ``-``
+means standard output.
+"""
 
 from __future__ import annotations
 
 import csv
 import io
 import json
-import math
 import os
+import stat
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 from rvbacklash.errors import InputError
+from rvbacklash.results import plain
+
+STDOUT = "-"
 
 
-def _plain(obj: Any) -> Any:
-    """JSON-safe plain numbers: numpy scalars to Python, non-finite floats to None."""
-    if isinstance(obj, Mapping):
-        return {str(k): _plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
-    if hasattr(obj, "item") and not isinstance(obj, (str, bytes)):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
-def render_json(data: Mapping[str, Any]) -> str:
-    return json.dumps(_plain(data), indent=2, allow_nan=False) + "\n"
+def render_json(data: Any) -> str:
+    return json.dumps(plain(data), indent=2, allow_nan=False) + "\n"
 
 
 def render_csv(rows: Iterable[Mapping[str, Any]]) -> str:
-    rows = [_plain(r) for r in rows]
+    rows = [plain(r) for r in rows]
     buf = io.StringIO()
     if rows:
-        w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()), lineterminator="\n")
+        names = list(dict.fromkeys(k for r in rows for k in r))
+        w = csv.DictWriter(buf, fieldnames=names, lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
     return buf.getvalue()
 
 
+def is_stdout(path: Path | str) -> bool:
+    return str(path) == STDOUT
+
+
+def target(path: Path) -> Path:
+    """The file a write to ``path`` replaces: symlinks followed."""
+    return Path(os.path.realpath(path)) if path.is_symlink() else path
+
+
 def check_writable(option: str, path: Path, force: bool = False) -> None:
     """Fail early (before any work is written) if ``path`` cannot be written."""
-    parent = path.parent if str(path.parent) else Path(".")
-    if path.is_dir():
+    if is_stdout(path):
+        return
+    real = target(path)
+    parent = real.parent if str(real.parent) else Path(".")
+    if real.is_dir():
         raise InputError(option, str(path), "is a directory; allowed: a file path")
+    try:
+        mode = os.stat(real).st_mode
+    except FileNotFoundError:
+        mode = None
+    except OSError as e:
+        raise InputError(option, str(path), f"cannot be inspected ({e.strerror or e})") from None
+    if mode is not None and not stat.S_ISREG(mode):
+        raise InputError(option, str(path), "is not a regular file (a FIFO, device or socket); allowed: a new path "
+                                            "or a regular file")
     if not parent.is_dir():
         raise InputError(option, str(path), f"directory {str(parent)!r} does not exist")
     if not os.access(parent, os.W_OK):
         raise InputError(option, str(path), f"directory {str(parent)!r} is not writable")
-    if path.exists() and not force:
+    if mode is not None and not force:
         raise InputError(option, str(path), "file exists; allowed: a new path, or --force to overwrite")
+
+
+def check_distinct(paths: Mapping[str, Path | None]) -> None:
+    """Two outputs must not name the same file (or both standard output)."""
+    seen: dict[str, str] = {}
+    for option, path in paths.items():
+        if path is None:
+            continue
+        key = STDOUT if is_stdout(path) else os.path.realpath(path)
+        if key in seen:
+            raise InputError(option, str(path), f"is also given to {seen[key]}; allowed: a different path for "
+                                                f"each output")
+        seen[key] = option
 
 
 def write_files(contents: Mapping[str, tuple[Path, str | bytes]], force: bool = False) -> None:
     """Write several rendered outputs {option: (path, content)}; all paths are checked first,
-    an existing file is only replaced with ``force``."""
+    an existing file is only replaced with ``force``; ``-`` writes to standard output."""
+    check_distinct({option: path for option, (path, _) in contents.items()})
     for option, (path, _) in contents.items():
         check_writable(option, path, force)
     for option, (path, content) in contents.items():
-        _atomic_write(option, path, content)
+        if is_stdout(path):
+            if isinstance(content, bytes):
+                sys.stdout.buffer.write(content)
+            else:
+                sys.stdout.write(content)
+            sys.stdout.flush()
+        else:
+            atomic_write(option, target(path), content)
 
 
-def _atomic_write(option: str, path: Path, content: str | bytes) -> None:
+def atomic_write(option: str, path: Path, content: str | bytes) -> None:
     mode = "wb" if isinstance(content, bytes) else "w"
     parent = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent)
@@ -75,9 +114,11 @@ def _atomic_write(option: str, path: Path, content: str | bytes) -> None:
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file the usual permissions
         os.replace(tmp, path)
-    except OSError as e:
+    except BaseException as e:  # includes Ctrl-C: never leave the temporary file behind
         try:
             os.unlink(tmp)
         except OSError:
             pass
-        raise InputError(option, str(path), f"cannot write ({e.strerror or e})") from None
+        if isinstance(e, OSError):
+            raise InputError(option, str(path), f"cannot write ({e.strerror or e})") from None
+        raise

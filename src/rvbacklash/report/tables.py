@@ -21,7 +21,7 @@ def _g(x: float, digits: int = 4) -> str:
 def print_stackup(result: StackupResult, console: Console) -> None:
     g = result.geometry
     console.print(
-        f"[bold]{result.design_name}[/]  ratio i = {g.ratio:.6g}, K1 = {g.K1:.4f}, "
+        f"[bold]{escape(result.design_name)}[/]  ratio i = {g.ratio:.6g}, K1 = {g.K1:.4f}, "
         f"r1 = {g.centre_gear_pitch_radius_mm:.4g} mm, a z_c = {g.cycloid_pitch_radius_mm:.4g} mm, "
         f"a0 = {g.crank_circle_radius_mm:.4g} mm" + (" (default: centre distance)" if g.crank_circle_radius_is_default else ""))
 
@@ -74,53 +74,64 @@ def _f(x, fmt: str = ".4f") -> str:
     return "-" if x is None else format(x, fmt)
 
 
-def _ci(ci) -> str:
-    return "-" if ci is None or None in ci else f"[{ci[0]:.4f}, {ci[1]:.4f}]"
+def _ci(lo, hi, fmt: str = ".4f") -> str:
+    return "-" if lo is None or hi is None else f"[{lo:{fmt}}, {hi:{fmt}}]"
 
 
 def print_simulation(r: "SimulationResult", console: Console) -> None:
-    s = r.stats
-    head = (f"[bold]{r.design_name}[/]  model {r.model}, method {r.method}"
-            + (f", {s['samples_done']:,} samples, seed {r.seed}" if r.method != "exact" else " (no sampling)"))
+    head = (f"[bold]{escape(r.design_name)}[/]  model {r.model}, method {r.method}"
+            + (f", {r.samples_done:,} samples, seed {r.seed}" if r.method != "exact" else " (no sampling)"))
     if r.partial:
-        head += f"  [bold red]PARTIAL: interrupted after {s['samples_done']:,} of {r.samples:,} samples[/]"
+        head += f"  [bold red]PARTIAL: interrupted after {r.samples_done:,} of {r.samples:,} samples[/]"
     console.print(head)
-
-    t = Table(title=escape("Output backlash [arcmin]"), title_justify="left")
-    for c in ["statistic", "value", "95 % interval"]:
-        t.add_column(c, justify="left" if c == "statistic" else "right")
-    t.add_row("mean", _f(s["mean_arcmin"]), _ci(s["mean_ci95"]))
-    t.add_row("standard deviation", _f(s["std_arcmin"]), "")
-    if s.get("min_arcmin") is not None:
-        t.add_row("min / max", f"{s['min_arcmin']:.4f} / {s['max_arcmin']:.4f}", "")
-    for p, q in s["quantiles"].items():
-        t.add_row(f"quantile {float(p) * 100:g} %", _f(q["value"]), _ci(q["ci95"]))
-    if s.get("yield") is not None:
-        y = s["yield"]
-        t.add_row(f"yield P(backlash <= {s['spec_arcmin']:g})", f"{y['fraction'] * 100:.4f} %",
-                  f"[{y['ci95'][0] * 100:.4f} %, {y['ci95'][1] * 100:.4f} %]")
-        t.add_row("out of spec", f"{s['ppm_out']:.1f} ppm", "")
-        t.add_row("Cp / Cpk (LSL 0, USL spec)", f"{_f(s['cp'], '.3f')} / {_f(s['cpk'], '.3f')}", "")
-    label = "cycloid stage preloaded" if r.model == "contact" else "P(backlash < 0): interference"
-    t.add_row(label, f"{s['interference_fraction'] * 100:.4f} %", "")
-    console.print(t)
-    a = r.analytic
-    console.print(f"linear stack-up (analyze): mean {a['mean_arcmin']:.4f}, sigma {a['sigma_arcmin']:.4f} arcmin")
-    if r.elapsed_s > 0 and s.get("samples_done"):
-        console.print(f"[dim]{r.elapsed_s:.2f} s, {s['samples_done'] / r.elapsed_s / 1e6:.1f} M samples/s[/]")
+    for o in r.outputs.values():
+        t = Table(title=escape(f"{o.description} [{o.unit}]"), title_justify="left")
+        for c in ["statistic", "value", "95 % interval"]:
+            t.add_column(c, justify="left" if c == "statistic" else "right")
+        if o.samples is not None and r.samples_done is not None and o.samples != r.samples_done:
+            t.add_row("units counted", f"{o.samples:,} of {r.samples_done:,}", "")
+        t.add_row("mean", _f(o.mean), _ci(o.mean_ci95_low, o.mean_ci95_high))
+        t.add_row("standard deviation sigma", _f(o.sigma), "")
+        if o.min is not None:
+            t.add_row("min / max", f"{o.min:.4f} / {o.max:.4f}", "")
+        for q in o.quantiles:
+            t.add_row(f"quantile {q.probability * 100:g} %", _f(q.value), _ci(q.ci95_low, q.ci95_high))
+        if o.yield_ is not None:
+            y = o.yield_
+            side = "<=" if o.spec_is_upper else ">="
+            t.add_row(escape(f"yield P({o.quantity} {side} {o.spec_limit:g} {o.unit})"), f"{y.fraction * 100:.4f} %",
+                      f"[{y.ci95_low * 100:.4f} %, {y.ci95_high * 100:.4f} %]")
+            t.add_row("out of spec", f"{o.ppm_out:.1f} ppm", "")
+            if o.cp is not None:
+                t.add_row("Cp / Cpk (LSL 0, USL spec)", f"{_f(o.cp, '.3f')} / {_f(o.cpk, '.3f')}", "")
+        if r.model == "linear" and o.negative_fraction is not None:
+            t.add_row("P(backlash < 0): interference", f"{o.negative_fraction * 100:.4f} %", "")
+        console.print(t)
+    if r.joint_yield is not None:
+        y = r.joint_yield
+        console.print(f"joint yield (every spec at once): {y.fraction * 100:.4f} % "
+                      f"[{y.ci95_low * 100:.4f} %, {y.ci95_high * 100:.4f} %]")
+    if r.preload_fraction is not None:
+        console.print(f"cycloid stage preloaded in {r.preload_fraction * 100:.3f} % of the units")
+    a = r.linear_reference
+    console.print(f"linear stack-up (analyze): mean {a.mean_arcmin:.4f}, sigma {a.sigma_arcmin:.4f} arcmin")
+    if r.samples_per_s:
+        console.print(f"[dim]{r.elapsed_s:.2f} s, {r.samples_per_s / 1e6:.2f} M samples/s[/]")
 
 
 def print_scenarios(results, console: Console) -> None:
     t = Table(title=escape("Scenarios: output backlash [arcmin]"), title_justify="left")
     for c in ["scenario", "factors changed", "mean", "sigma", "q 99.865 %", "yield [95 % interval]"]:
         t.add_column(c, justify="left" if c == "scenario" else "right")
-    for r in results:
-        d = r.to_dict()
-        y = d["yield"]
-        ys = "-" if y is None else f"{y['fraction'] * 100:.3f} % [{y['ci95'][0] * 100:.3f}, {y['ci95'][1] * 100:.3f}]"
-        t.add_row(r.name, str(r.tightened), f"{d['mean_arcmin']:.4f}", f"{d['sigma_arcmin']:.4f}",
-                  f"{d['q99865_arcmin']:.4f}", ys)
+    for row in results.rows():
+        y = row["yield"]
+        ys = "-" if y is None else (f"{y * 100:.3f} % [{row['yield_ci95_low'] * 100:.3f}, "
+                                    f"{row['yield_ci95_high'] * 100:.3f}]")
+        t.add_row(escape(row["name"]) + (" (partial)" if row["partial"] else ""), str(row["factors_changed"]),
+                  f"{row['mean_arcmin']:.4f}", f"{row['sigma_arcmin']:.4f}", _f(row["q99865_arcmin"]), ys)
     console.print(t)
+    if results.partial:
+        console.print(f"[bold red]PARTIAL: interrupted; {len(results)} of {len(results.requested)} scenarios[/]")
 
 
 def print_sources(result: StackupResult, console: Console) -> None:
@@ -136,17 +147,18 @@ def print_sources(result: StackupResult, console: Console) -> None:
 
 def print_contact(result, console: Console) -> None:
     """The nominal design's play from the exact contact geometry."""
-    d = result.to_dict()
-    t = Table(title=escape(f"Contact model, nominal design at crank angle {d['crank_angle_deg']:g} deg"),
+    t = Table(title=escape(f"Contact model, nominal design at crank angle {result.crank_angle_deg:g} deg"),
               title_justify="left")
-    for c in ["disc", "play ccw [rad]", "play cw [rad]", "first-contact pins ccw", "first-contact pins cw"]:
-        t.add_column(c, justify="right")
-    for i, disc in enumerate(d["discs"]):
-        t.add_row(str(i), f"{disc['play_ccw_rad']:.4e}", f"{disc['play_cw_rad']:.4e}",
-                  ", ".join(map(str, disc["contact_pins_ccw"])), ", ".join(map(str, disc["contact_pins_cw"])))
+    for c in ["disc", "play ccw [arcmin]", "play cw [arcmin]", "first-contact pins ccw", "first-contact pins cw"]:
+        t.add_column(escape(c), justify="right")
+    for disc in result.discs:
+        t.add_row(str(disc.disc), f"{disc.play_ccw_arcmin:.4f}", f"{disc.play_cw_arcmin:.4f}",
+                  ", ".join(map(str, disc.contact_pins_ccw)), ", ".join(map(str, disc.contact_pins_cw)))
     console.print(t)
-    console.print(f"cycloid stage {d['cycloid_stage_arcmin']:.4f} arcmin (linear model, mean: "
-                  f"{d['linear_cycloid_stage_mean_arcmin']:.4f}); other stages at their means "
-                  + ", ".join(f"{k} {v:.4f}" for k, v in d["other_stages_mean_arcmin"].items())
-                  + f"; [bold]output lost motion {d['lost_motion_arcmin']:.4f} arcmin[/]")
-    console.print(f"[dim]{d['assumptions']}[/]")
+    stage = "[bold red]preloaded[/] (no rotation frees every pin)" if result.cycloid_stage_preloaded else \
+        f"{result.cycloid_stage_arcmin:.4f} arcmin"
+    console.print(f"cycloid stage {stage} (linear model, mean: {result.linear_cycloid_stage_mean_arcmin:.4f} arcmin); "
+                  f"other stages at their means "
+                  + ", ".join(f"{k} {v:.4f}" for k, v in result.other_stages_mean_arcmin.items())
+                  + f" arcmin; [bold]output lost motion {result.lost_motion_arcmin:.4f} arcmin[/]")
+    console.print(f"[dim]{escape(result.assumptions)}[/]")

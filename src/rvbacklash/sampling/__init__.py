@@ -1,1 +1,2 @@
-"""Input distributions of the raw factor quantities (and, later, the sampling engine)."""
+"""Monte-Carlo sampling: the seeded block engine, the input transform (copula) and the compiled
+block sources of the models."""

@@ -4,30 +4,34 @@ Reproducibility contract
 - The sample stream is cut into blocks of BLOCK_SIZE samples; block b draws from its own
   generator ``PCG64(SeedSequence(seed, spawn_key=(b,)))``, so the samples do not depend on the
   chunk size (blocks per task) or the number of worker threads.
-- Each block is reduced to a small summary (shifted sums, min, max, counts) and a fixed-bin
-  histogram. Summaries are merged strictly in block order (Chan et al. pairwise update) and
-  histograms are integer counts, so statistics are bit-identical for any chunking or threads.
-- The histogram range comes from block 0 (the "pilot"), which is part of every run.
+- A block source turns block b into the values of its outputs, one row per output (``Output``);
+  NaN marks a sample an output does not apply to. Each block is reduced to a small summary per
+  output (shifted sums, min, max, counts) and a fixed-bin histogram. Summaries are merged strictly
+  in block order (Chan et al. pairwise update) and histograms are integer counts, so statistics
+  are bit-identical for any chunking or threads.
+- The histogram ranges come from block 0 (the "pilot"), which is part of every run.
 
-Memory: one output buffer per block being worked on and one histogram per worker thread,
-whatever the number of samples.
+Memory: the output buffers of the blocks being worked on and one histogram per output per task
+in flight, whatever the number of samples.
+
+Ctrl-C (``rvbacklash.interrupt``): the run stops after the blocks being worked on and returns
+the finished ones, marked partial; every statistic (moments, histograms, counts) covers exactly
+the same blocks.
 """
 
 from __future__ import annotations
 
 import math
-import threading
 import time
 import warnings
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Protocol
 
 import numpy as np
 from numpy.random import PCG64, Generator, SeedSequence
-from scipy import special
-from scipy.stats import qmc
 
+from rvbacklash.interrupt import stop_requested
 from rvbacklash.sampling import kernels
 from rvbacklash.sampling.inputs import InputTransform, linear_fast_plan
 
@@ -36,6 +40,7 @@ HIST_BINS = 1 << 18
 METHODS = ("default", "box-muller", "sobol")
 MAX_SAMPLES = {"default": 10**12, "box-muller": 10**12, "sobol": 2**30}  # sobol: scipy's 30-bit limit
 PILOT_SIGMAS = 12.0  # histogram range: pilot mean +- 12 pilot standard deviations (and its min/max)
+N_STATS = 7  # per block and output: s1, s2, min, max, n passing the limit, n valid, n negative
 
 
 def block_generator(seed: int, block: int) -> Generator:
@@ -48,17 +53,37 @@ def block_sizes(samples: int) -> list[int]:
     return [BLOCK_SIZE] * full + ([rest] if rest else [])
 
 
-# --- what produces the output values of one block --------------------------------------------
+@dataclass(frozen=True)
+class Output:
+    """One quantity a block source produces per sample."""
+
+    name: str  # e.g. "backlash", "lost_motion", "preload"
+    unit: str  # "arcmin", "um", "nm_per_arcmin"
+    description: str
+    upper_limit: bool = True  # a spec on it is an upper limit (lost motion) or a lower one (rigidity)
+    conditional: bool = False  # applies to some samples only (NaN elsewhere)
+    hint_range: tuple[float, float] | None = None  # histogram range if the pilot block has no value
+
+
+class BlockSource(Protocol):
+    outputs: tuple[Output, ...]
+
+    def block(self, b: int, n: int) -> np.ndarray:
+        """(len(outputs), n) values of block b [units of the outputs]."""
+
+
+# --- the linear model (and any vectorised model of the 21 raw factor values) ------------------
 
 @dataclass(frozen=True, eq=False)
-class BlockSource:
-    """Produces the model outputs [arcmin] of block b (size n) for one method."""
+class LinearSource:
+    """Outputs [arcmin] of a model of the 21 raw factor values, block by block, for one method."""
 
     method: str
     seed: int
     transform: InputTransform
     model: Callable[[np.ndarray], np.ndarray]
     fast: tuple[np.ndarray, float] | None  # (weights, offset) of the linear fast path
+    outputs: tuple[Output, ...] = (Output("backlash", "arcmin", "output backlash (rigid lost motion)"),)
 
     def normals(self, b: int, n: int) -> np.ndarray:
         """(n, k) independent standard normals of block b."""
@@ -70,6 +95,9 @@ class BlockSource:
             kernels.box_muller_normals(block_generator(self.seed, b), n, k, out)
             return out
         # sobol: one scrambled sequence for the whole run, block b starts at point b * BLOCK_SIZE
+        from scipy import special
+        from scipy.stats import qmc
+
         eng = qmc.Sobol(d=max(k, 1), scramble=True, seed=Generator(PCG64(SeedSequence(self.seed))))
         if b:
             eng.fast_forward(b * BLOCK_SIZE)
@@ -96,36 +124,37 @@ class BlockSource:
             return y
         return np.asarray(self.model(self.transform(self.normals(b, n))), dtype=float)
 
-    def block(self, b: int, n: int) -> tuple[np.ndarray, int]:
-        """Outputs of block b and how many of them interfere (negative lost motion)."""
-        y = self.values(b, n)
-        return y, int(np.count_nonzero(y < 0))
+    def block(self, b: int, n: int) -> np.ndarray:
+        return self.values(b, n)[None, :]
 
 
-def make_block_source(method: str, seed: int, transform: InputTransform, model,
-                      sensitivities: np.ndarray | None) -> BlockSource:
+def linear_source(method: str, seed: int, transform: InputTransform, model,
+                  sensitivities: np.ndarray | None) -> LinearSource:
     """Linear models with normal inputs take the compiled fast path; everything else (other
     marginals, non-linear models) maps normals through the copula and calls ``model``."""
     fast = linear_fast_plan(transform, sensitivities) if sensitivities is not None else None
-    return BlockSource(method, seed, transform, model, fast)
+    return LinearSource(method, seed, transform, model, fast)
 
 
 # --- merged summaries ------------------------------------------------------------------------
 
 @dataclass
 class Moments:
-    """Count, mean, M2 (sum of squared deviations), min, max, and spec counts of merged blocks."""
+    """Count, mean, M2 (sum of squared deviations), min, max and counts of merged blocks."""
 
-    n: int = 0
+    n: int = 0  # valid values
     mean: float = 0.0
     m2: float = 0.0
     min: float = math.inf
     max: float = -math.inf
-    n_le_spec: int = 0
+    n_pass: int = 0  # values meeting the limit
     n_negative: int = 0
 
-    def merge_block(self, n: int, shift: float, stats: np.ndarray) -> None:
+    def merge_block(self, shift: float, stats: np.ndarray) -> None:
         """Chan, Golub & LeVeque pairwise update with one block's shifted sums."""
+        n = int(stats[5])
+        if n == 0:
+            return
         s1, s2 = float(stats[0]), float(stats[1])
         b_mean = shift + s1 / n
         b_m2 = max(s2 - s1 * s1 / n, 0.0)
@@ -136,8 +165,8 @@ class Moments:
         self.n = tot
         self.min = min(self.min, float(stats[2]))
         self.max = max(self.max, float(stats[3]))
-        self.n_le_spec += int(stats[4])
-        self.n_negative += int(stats[5])
+        self.n_pass += int(stats[4])
+        self.n_negative += int(stats[6])
 
 
 @dataclass
@@ -152,81 +181,109 @@ class Histogram:
 
 
 @dataclass
-class RawRun:
-    """What a run leaves for the statistics (``rvbacklash.analysis.statistics``)."""
+class RawOutput:
+    """What a run leaves of one output for the statistics (``rvbacklash.analysis.statistics``)."""
 
+    output: Output
+    limit: float
     moments: Moments
     histogram: Histogram
+
+
+@dataclass
+class RawRun:
+    outputs: list[RawOutput]
+    samples: int  # samples finished (every output saw these, valid or NaN)
+    n_joint_pass: int  # samples meeting every limit at once
     convergence: list[dict] = field(default_factory=list)
     partial: bool = False
     elapsed_s: float = 0.0
 
 
-def _histogram_range(y: np.ndarray) -> tuple[float, float]:
+def _histogram_range(y: np.ndarray, hint: tuple[float, float] | None) -> tuple[float, float]:
+    y = y[~np.isnan(y)]
+    if y.size == 0:
+        return hint if hint is not None else (0.0, 1.0)
     m, s = float(np.mean(y)), float(np.std(y))
     lo, hi = min(float(y.min()), m - PILOT_SIGMAS * s), max(float(y.max()), m + PILOT_SIGMAS * s)
+    if hint is not None:
+        lo, hi = min(lo, hint[0]), max(hi, hint[1])
     pad = max(0.5 * (hi - lo), 1e-9 * max(1.0, abs(m)))
-    if s == 0.0:
+    if hi - lo <= 0:
         return m - pad, m + pad
     return lo, hi
 
 
-def run_blocks(source: BlockSource, samples: int, spec: float, workers: int = 2, chunk_blocks: int = 4,
-               progress: Callable[[int], None] | None = None,
-               snapshot: Callable[[Moments, Histogram], dict] | None = None) -> RawRun:
-    """Draw and reduce ``samples`` outputs in blocks; see the module docstring.
+def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | None = None, workers: int = 2,
+               chunk_blocks: int = 4, progress: Callable[[int], None] | None = None,
+               snapshot: Callable[[RawRun], dict] | None = None) -> RawRun:
+    """Draw and reduce ``samples`` samples of every output of ``source`` in blocks (module docstring).
 
-    ``progress(n)`` is called with the samples finished so far; ``snapshot(moments, hist)`` at
-    every power-of-two number of blocks, for the convergence trace. Ctrl-C stops after the
-    blocks being worked on and returns the finished ones with ``partial=True``.
+    ``limits``: one spec limit per output (+-inf for none; the side is the output's). ``progress(n)``
+    is called with the samples finished so far; ``snapshot(run)`` at every power-of-two number of
+    blocks, for the convergence trace.
     """
     t0 = time.perf_counter()
+    outs = source.outputs
+    k = len(outs)
+    limits_a = np.array(limits if limits is not None else [math.inf if o.upper_limit else -math.inf for o in outs],
+                        dtype=float)
+    upper = np.array([o.upper_limit for o in outs])
     sizes = block_sizes(samples)
-    pilot, pilot_interfering = source.block(0, sizes[0])
-    lo, hi = _histogram_range(pilot)
-    h_scale = HIST_BINS / (hi - lo)
-    shift = float(np.mean(pilot))
+    with stop_requested() as stop:  # from here on, Ctrl-C stops the run after the blocks under way
+        return _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
 
-    local = threading.local()
-    hists: list[np.ndarray] = []
-    lock = threading.Lock()
 
-    def thread_hist() -> np.ndarray:
-        h = getattr(local, "hist", None)
-        if h is None:
-            h = local.hist = np.zeros(HIST_BINS + 2, dtype=np.int64)
-            with lock:
-                hists.append(h)
-        return h
+def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0) -> RawRun:
+    outs = source.outputs
+    k = len(outs)
+    pilot = source.block(0, sizes[0])
+    ranges = [_histogram_range(pilot[c], outs[c].hint_range) for c in range(k)]
+    scales = [HIST_BINS / (hi - lo) for lo, hi in ranges]
+    shifts = []
+    for c in range(k):
+        valid = pilot[c][~np.isnan(pilot[c])]
+        shifts.append(float(np.mean(valid)) if valid.size else 0.5 * sum(ranges[c]))
 
-    def task(blocks: range) -> list[tuple[int, np.ndarray]]:
-        out = []
-        hist = thread_hist()
+    def task(blocks: range):
+        """(per block: stats (k, N_STATS) and joint count; histograms (k, bins)) of some blocks."""
+        hist = np.zeros((k, HIST_BINS + 2), dtype=np.int64)
+        per_block = []
         for b in blocks:
-            y, interfering = (pilot, pilot_interfering) if b == 0 else source.block(b, sizes[b])
-            stats = np.empty(6)
-            kernels.accumulate(y, shift, spec, hist, lo, h_scale, stats)
-            stats[5] = interfering  # the source knows what interference means for its model
-            out.append((b, stats))
-        return out
+            y = pilot if b == 0 else source.block(b, sizes[b])
+            stats = np.empty((k, N_STATS))
+            for c in range(k):
+                kernels.accumulate(y[c], shifts[c], limits_a[c], upper[c], hist[c], ranges[c][0], scales[c], stats[c])
+            joint = kernels.count_joint(y, limits_a, upper) if k > 1 else int(stats[0, 4])
+            per_block.append((b, stats, joint))
+        return per_block, hist
 
-    moments = Moments()
-    done: dict[int, np.ndarray] = {}
+    moments = [Moments() for _ in range(k)]
+    hist_total = np.zeros((k, HIST_BINS + 2), dtype=np.int64)
+    done: dict[int, tuple[np.ndarray, int]] = {}
+    run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c], Histogram(*ranges[c], hist_total[c]))
+                  for c in range(k)], 0, 0)
     next_block = 0
-    convergence: list[dict] = []
-    partial = False
+    finished_samples = 0
 
     def fold() -> None:
+        """Merge the collected blocks in block order."""
         nonlocal next_block
         while next_block in done:
-            moments.merge_block(sizes[next_block], shift, done.pop(next_block))
+            stats, joint = done.pop(next_block)
+            for c in range(k):
+                moments[c].merge_block(shifts[c], stats[c])
+            run.samples += sizes[next_block]
+            run.n_joint_pass += joint
             next_block += 1
 
-    def merged_hist() -> Histogram:
-        total = np.zeros(HIST_BINS + 2, dtype=np.int64)
-        for h in hists:
-            total += h
-        return Histogram(lo, hi, total)
+    def collect(fut: Future) -> None:
+        nonlocal finished_samples
+        per_block, hist = fut.result()
+        np.add(hist_total, hist, out=hist_total)
+        for b, stats, joint in per_block:
+            done[b] = (stats, joint)
+            finished_samples += sizes[b]
 
     # waves end at 1, 2, 4, 8, ... blocks: a convergence point at each
     ends, e = [], 1
@@ -235,38 +292,42 @@ def run_blocks(source: BlockSource, samples: int, spec: float, workers: int = 2,
         e *= 2
     ends.append(len(sizes))
     start = 0
-    finished_samples = 0
+    pending: set[Future] = set()
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
         try:
             for end in ends:
                 # at least one task per worker in every wave (results do not depend on the split)
                 step = max(1, min(chunk_blocks, -(-(end - start) // max(1, workers))))
-                chunks = [range(a, min(a + step, end)) for a in range(start, end, step)]
-                pending = {pool.submit(task, c) for c in chunks}
-                try:
-                    while pending:
-                        finished, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-                        for fut in finished:
-                            for b, stats in fut.result():
-                                done[b] = stats
-                                finished_samples += sizes[b]
-                        if finished and progress is not None:
-                            progress(finished_samples)
-                except KeyboardInterrupt:
-                    for fut in pending:
-                        fut.cancel()
-                    for fut in pending:
-                        if not fut.cancelled():
-                            for b, stats in fut.result():
-                                done[b] = stats
-                    raise
+                for a in range(start, end, step):
+                    pending.add(pool.submit(task, range(a, min(a + step, end))))
+                while pending and not stop.is_set():
+                    finished, _ = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+                    for fut in finished:
+                        collect(fut)
+                        pending.discard(fut)
+                    if finished and progress is not None:
+                        progress(finished_samples)
+                if stop.is_set():
+                    break
                 fold()
                 start = end
                 if snapshot is not None:
-                    convergence.append(snapshot(moments, merged_hist()))
-        except KeyboardInterrupt:
-            partial = True
-            # blocks finished out of order are folded too, still in block order
-            for b in sorted(done):
-                moments.merge_block(sizes[b], shift, done.pop(b))
-    return RawRun(moments, merged_hist(), convergence, partial, time.perf_counter() - t0)
+                    run.convergence.append(snapshot(run))
+        except KeyboardInterrupt:  # raised by a callback, or outside the main thread
+            stop.set()
+        if stop.is_set():
+            run.partial = True
+            for fut in pending:
+                fut.cancel()
+            for fut in pending:
+                if not fut.cancelled():
+                    collect(fut)  # blocks already being worked on are finished and kept
+            pending.clear()
+            for b in sorted(done):  # blocks finished out of order are folded too, in block order
+                stats, joint = done.pop(b)
+                for c in range(k):
+                    moments[c].merge_block(shifts[c], stats[c])
+                run.samples += sizes[b]
+                run.n_joint_pass += joint
+    run.elapsed_s = time.perf_counter() - t0
+    return run

@@ -13,8 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from rvbacklash.design.derived import ResolvedZone
-from rvbacklash.sampling.distributions import fixed_value_um, is_normal, marginal
+from rvbacklash.problem import Problem
 
 N_FACTORS = 21
 
@@ -56,23 +55,21 @@ class InputTransform:
         return x
 
 
-def build_input_transform(zones: tuple[ResolvedZone, ...], corr: np.ndarray) -> InputTransform:
-    cols, dists = [], []
-    fixed = np.zeros(N_FACTORS)
-    for i, z in enumerate(zones):
-        d = marginal(z)
-        if d is None:
-            fixed[i] = fixed_value_um(z)
-        else:
-            cols.append(i)
-            dists.append(d)
-    cols_a = np.array(cols, dtype=int)
-    normal = np.array([is_normal(d) for d in dists], dtype=bool)
-    means = np.array([d.mean() if is_normal(d) else 0.0 for d in dists])
-    sigmas = np.array([d.std() if is_normal(d) else 0.0 for d in dists])
-    sub = corr[np.ix_(cols_a, cols_a)] if cols else np.eye(0)
-    chol = None if np.allclose(sub, np.eye(len(cols))) else correlation_factor(sub)
-    return InputTransform(cols_a, fixed, tuple(dists), normal, means, sigmas, chol)
+def _is_normal(dist) -> bool:
+    return dist is not None and dist.dist.name == "norm"
+
+
+def build_input_transform(problem: Problem) -> InputTransform:
+    """The copula transform of a problem's random factors (fixed ones keep their value)."""
+    cols = np.flatnonzero(problem.random_mask)
+    dists = tuple(problem.marginals[i] for i in cols)
+    fixed = np.where(problem.random_mask, 0.0, problem.means_um)
+    normal = np.array([_is_normal(d) for d in dists], dtype=bool)
+    means = np.where(normal, problem.means_um[cols], 0.0)
+    sigmas = np.where(normal, problem.sigmas_um[cols], 0.0)
+    sub = problem.correlation[np.ix_(cols, cols)]
+    chol = None if np.array_equal(sub, np.eye(cols.size)) else correlation_factor(sub)
+    return InputTransform(cols, fixed, dists, normal, means, sigmas, chol)
 
 
 def linear_fast_plan(transform: InputTransform, sensitivities: np.ndarray) -> tuple[np.ndarray, float] | None:

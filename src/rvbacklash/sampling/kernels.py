@@ -59,11 +59,12 @@ def box_muller_normals(rng, n, k, out):
 
 
 @nb.njit(nogil=True, cache=True)
-def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
-    """One block's mergeable summary of the output values ``y`` [arcmin].
+def accumulate(y, shift, limit, upper, hist, h_lo, h_scale, stats):
+    """One block's mergeable summary of one output's values ``y``; NaN marks a sample the output
+    does not apply to (e.g. the lost motion of a preloaded unit) and is skipped.
 
-    stats <- [sum(y - shift), sum((y - shift)^2), min, max, #(y <= spec)] (stats[5], the
-    interference count, is the block source's: what interference means depends on the model);
+    stats <- [sum(y - shift), sum((y - shift)^2), min, max, #passing the limit, #valid, #(y < 0)],
+    passing = y <= limit if ``upper`` else y >= limit;
     hist[1 + floor((y - h_lo) * h_scale)] += 1, with hist[0] / hist[-1] the under/overflow.
     Sums are shifted by (about) the mean so that they do not cancel.
     """
@@ -72,8 +73,13 @@ def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
     s2 = 0.0
     mn = np.inf
     mx = -np.inf
-    le = 0
+    ok = 0
+    valid = 0
+    negative = 0
     for v in y:
+        if v != v:  # NaN: not applicable
+            continue
+        valid += 1
         d = v - shift
         s1 += d
         s2 += d * d
@@ -81,8 +87,10 @@ def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
             mn = v
         if v > mx:
             mx = v
-        if v <= spec:
-            le += 1
+        if (v <= limit) if upper else (v >= limit):
+            ok += 1
+        if v < 0.0:
+            negative += 1
         t = (v - h_lo) * h_scale
         if t < 0.0:
             hist[0] += 1
@@ -94,4 +102,26 @@ def accumulate(y, shift, spec, hist, h_lo, h_scale, stats):
     stats[1] = s2
     stats[2] = mn
     stats[3] = mx
-    stats[4] = le
+    stats[4] = ok
+    stats[5] = valid
+    stats[6] = negative
+
+
+@nb.njit(nogil=True, cache=True)
+def count_joint(values, limits, upper):
+    """Samples (columns of ``values``, one row per output) that meet every output's limit at
+    once; NaN counts as meeting it (the output does not apply to that sample)."""
+    k, n = values.shape
+    count = 0
+    for i in range(n):
+        ok = True
+        for c in range(k):
+            v = values[c, i]
+            if v != v:
+                continue
+            if (v > limits[c]) if upper[c] else (v < limits[c]):
+                ok = False
+                break
+        if ok:
+            count += 1
+    return count

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from rvbacklash.design import geometry
+from rvbacklash.geometry import reducer as geometry
 from rvbacklash.errors import InputError
 from rvbacklash.standards import cycloid, iso286
 from rvbacklash.standards.iso1328 import GearTolerances, iso1328_tolerances

@@ -158,15 +158,15 @@ def _check_number(option: str, value: float) -> float:
 def iso1328_tolerances(edition: str, module_mm: float, diameter_mm: float, width_mm: float,
                        grade: int) -> GearTolerances:
     """Every tolerance of a gear for ``edition`` '1995' or '2013'; validity limits enforced."""
-    m = _check_number("--module", module_mm)
-    d = _check_number("--diameter", diameter_mm)
-    b = _check_number("--width", width_mm)
+    m = _check_number("module_mm", module_mm)
+    d = _check_number("diameter_mm", diameter_mm)
+    b = _check_number("width_mm", width_mm)
     if edition == "1995":
         if grade not in GRADES_1995:
-            raise InputError("--grade", grade, "allowed: ISO 1328-1:1995 grades 0 to 12")
-        mm = range_geometric_mean(m, M_LIMITS_1995, "m", "--module")
-        dm = range_geometric_mean(d, D_LIMITS_1995, "d", "--diameter")
-        bm = range_geometric_mean(b, B_LIMITS_1995, "b", "--width")
+            raise InputError("grade", grade, "allowed: ISO 1328-1:1995 grades 0 to 12")
+        mm = range_geometric_mean(m, M_LIMITS_1995, "m", "module_mm")
+        dm = range_geometric_mean(d, D_LIMITS_1995, "d", "diameter_mm")
+        bm = range_geometric_mean(b, B_LIMITS_1995, "b", "width_mm")
         k = grade_factor_1995(grade)
         r = round_iso1328_1
         return GearTolerances(
@@ -177,8 +177,8 @@ def iso1328_tolerances(edition: str, module_mm: float, diameter_mm: float, width
             note=f"range means d = {dm:.4g} mm, m = {mm:.4g} mm, b = {bm:.4g} mm")
     if edition == "2013":
         if grade not in CLASSES_2013:
-            raise InputError("--grade", grade, "allowed: ISO 1328-1:2013 classes 1 to 11")
-        for name, value, option in (("d", d, "--diameter"), ("m", m, "--module"), ("b", b, "--width")):
+            raise InputError("grade", grade, "allowed: ISO 1328-1:2013 classes 1 to 11")
+        for name, value, option in (("d", d, "diameter_mm"), ("m", m, "module_mm"), ("b", b, "width_mm")):
             lo, hi = SCOPE_2013[name]
             if not lo <= value <= hi:
                 raise InputError(option, value, f"ISO 1328-1:2013 covers {lo:g} <= {name} <= {hi:g}")
@@ -190,4 +190,4 @@ def iso1328_tolerances(edition: str, module_mm: float, diameter_mm: float, width
             Falpha_um=r(k * total_profile_2013_um(m, d)), ffalpha_um=r(k * profile_form_2013_um(m)),
             Fbeta_um=r(k * total_helix_2013_um(d, b)), Fr_um=r(k * radial_runout_2013_um(m, d)),
             note="actual d, m_n, b (no size ranges in the 2013 edition)")
-    raise InputError("--edition", edition, "allowed: 1995, 2013")
+    raise InputError("edition", edition, "allowed: 1995, 2013")

@@ -34,7 +34,7 @@ def _step(size_mm: float, option: str) -> dict[str, str]:
 
 def size_step_mm(size_mm: float) -> tuple[float, float]:
     """(over, to) of the ISO 286-1 nominal size step holding ``size_mm`` [mm]."""
-    row = _step(size_mm, "--size")
+    row = _step(size_mm, "size_mm")
     return float(row["over_mm"]), float(row["to_mm"])
 
 
@@ -64,17 +64,17 @@ def it_formula_um(grade: int, d_mm: float) -> float:
     return it1 * (it5 / it1) ** ((grade - 1) / 4.0)
 
 
-def it_um(grade: int, size_mm: float, option: str = "--grade") -> float:
+def it_um(grade: int, size_mm: float, option: str = "grade") -> float:
     """Standard tolerance IT<grade> [um] for nominal size ``size_mm`` [mm], from the table."""
     if grade not in IT_GRADES:
         raise InputError(option, f"IT{grade}", "allowed: IT1 to IT12 (ISO 286-1)")
-    return float(_step(size_mm, "--size")[f"IT{grade}"])
+    return float(_step(size_mm, "size_mm")[f"IT{grade}"])
 
 
 def parse_it(text: str) -> int:
     m = re.fullmatch(r"(?i)IT(\d{1,2})", text.strip())
     if not m or int(m.group(1)) not in IT_GRADES:
-        raise InputError("--grade", text, "allowed: IT1 to IT12")
+        raise InputError("grade", text, "allowed: IT1 to IT12")
     return int(m.group(1))
 
 
@@ -92,8 +92,8 @@ def shaft_zone(letter: str, grade: int, size_mm: float) -> Zone:
     """Shaft tolerance zone, e.g. g6: es from the table, ei = es - IT (or ei from the table
     for k..p, es = ei + IT; js: +-IT/2). ISO 286-1/-2."""
     if letter not in SHAFT_LETTERS:
-        raise InputError("--fit", letter, f"allowed shaft letters: {', '.join(SHAFT_LETTERS)}")
-    it = it_um(grade, size_mm, "--fit")
+        raise InputError("fit", letter, f"allowed shaft letters: {', '.join(SHAFT_LETTERS)}")
+    it = it_um(grade, size_mm, "fit")
     if letter == "js":
         return Zone(letter, grade, it / 2, -it / 2)
     row = next(r for r in read_table(SHAFT_TABLE) if float(r["over_mm"]) < size_mm <= float(r["to_mm"]))
@@ -109,8 +109,8 @@ def hole_zone(letter: str, grade: int, size_mm: float) -> Zone:
     """Hole tolerance zone, e.g. H7: EI = -es of the same shaft letter for F, G, H, ES = EI + IT;
     JS: +-IT/2. ISO 286-1."""
     if letter not in HOLE_LETTERS:
-        raise InputError("--fit", letter, f"allowed hole letters: {', '.join(HOLE_LETTERS)}")
-    it = it_um(grade, size_mm, "--fit")
+        raise InputError("fit", letter, f"allowed hole letters: {', '.join(HOLE_LETTERS)}")
+    it = it_um(grade, size_mm, "fit")
     if letter == "JS":
         return Zone(letter, grade, it / 2, -it / 2)
     ei = 0.0 - shaft_zone(letter.lower(), grade, size_mm).upper_um  # 0.0 - 0.0 is +0.0, not -0.0
@@ -136,7 +136,7 @@ def fit(spec: str, size_mm: float) -> Fit:
     """Clearance range of a hole/shaft fit such as 'H7/g6' [um]: min = EI - es, max = ES - ei."""
     m = re.fullmatch(r"\s*(JS|[A-Z])(\d{1,2})\s*/\s*(js|[a-z])(\d{1,2})\s*", spec)
     if not m:
-        raise InputError("--fit", spec, "allowed: hole/shaft like H7/g6 (holes F G H JS, shafts f g h js k m n p)")
+        raise InputError("fit", spec, "allowed: hole/shaft like H7/g6 (holes F G H JS, shafts f g h js k m n p)")
     hole = hole_zone(m.group(1), int(m.group(2)), size_mm)
     shaft = shaft_zone(m.group(3), int(m.group(4)), size_mm)
     return Fit(spec.strip(), size_mm, hole.upper_um, hole.lower_um, shaft.upper_um, shaft.lower_um,

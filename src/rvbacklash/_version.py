@@ -1,0 +1,8 @@
+"""The installed version, without importing anything else of the package."""
+
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("rvbacklash")
+except PackageNotFoundError:  # running from a source tree without installation
+    __version__ = "0.0.0"

@@ -1,0 +1,119 @@
+"""Everything one report shows, gathered as results (the report layer only renders it)."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import re
+from dataclasses import dataclass, field
+
+from rvbacklash._version import __version__
+from rvbacklash.analysis.contact import NominalContact
+from rvbacklash.analysis.scenarios import Comparison
+from rvbacklash.analysis.simulation import SimulationResult
+from rvbacklash.analysis.stackup import StackupResult
+from rvbacklash.problem import Problem
+from rvbacklash.results import EXPORT, Result
+
+
+@dataclass(frozen=True, repr=False)
+class ReportData(Result):
+    """The results of one report: stack-up, simulation, scenarios, nominal contact, warnings."""
+
+    problem: Problem = field(metadata={EXPORT: False})
+    stackup: StackupResult
+    simulation: SimulationResult
+    spec_arcmin: float | None
+    comparison: Comparison | None
+    contact: NominalContact | None
+    warnings: tuple[str, ...]
+    created_utc: str
+
+    @property
+    def partial(self) -> bool:
+        return self.simulation.partial or (self.comparison is not None and self.comparison.partial)
+
+    def key_numbers(self) -> dict:
+        """The numbers the page marks, by the JSON path they have in ``to_dict``."""
+        t, s = self.stackup.total, self.simulation
+        out = {
+            "design.ratio": self.stackup.geometry.ratio, "design.K1": self.stackup.geometry.K1,
+            "total.mean_arcmin": t.mean_arcmin, "total.sigma_arcmin": t.sigma_arcmin,
+            "total.plus3sigma_arcmin": t.plus3sigma_arcmin, "total.worst_case_arcmin": t.worst_case_arcmin,
+            "total.rss_arcmin": t.rss_arcmin,
+            "simulation.mean_arcmin": s.mean_arcmin, "simulation.sigma_arcmin": s.sigma_arcmin,
+            "simulation.q99865_arcmin": s.quantiles.at(0.99865).value,
+        }
+        if s.yield_ is not None:
+            out["simulation.yield"] = s.yield_.fraction
+        return out
+
+    def metadata(self) -> dict:
+        sim = self.simulation
+        return {"rvbacklash_version": __version__, "design": self.problem.name, "input": self.problem.source,
+                "input_sha256": self.problem.source_sha256, "seed": sim.seed, "method": sim.method,
+                "samples": sim.samples, "samples_done": sim.samples_done, "model": sim.model,
+                "spec_arcmin": self.spec_arcmin, "partial": self.partial,
+                "standards": standards_used(self.stackup), "created_utc": self.created_utc}
+
+    def to_dict(self) -> dict:
+        return {"metadata": self.metadata(), "warnings": list(self.warnings), "key_numbers": self.key_numbers(),
+                "analysis": self.stackup.to_dict(), "simulation": self.simulation.to_dict(),
+                "comparison": self.comparison.to_dict() if self.comparison is not None else None,
+                "contact_nominal": self.contact.to_dict() if self.contact is not None else None}
+
+    def rows(self) -> list[dict]:
+        return [{"key": k, "value": v} for k, v in self.key_numbers().items()]
+
+    def summary(self) -> list[str]:
+        return [f"report of {self.problem.name}" + (" [PARTIAL: interrupted]" if self.partial else "")] + \
+            self.stackup.summary()[:1] + self.simulation.summary()[1:2]
+
+
+_STANDARD = re.compile(r"(ISO(?:/TR)? \d+(?:-\d)?(?::\d{4})?|GB(?:/T)? [\d.]+-\d{2,4}|assumption)")
+
+
+def standards_used(stackup: StackupResult) -> list[str]:
+    """Standards and editions named in the zones' origins (plus 'assumption' if any)."""
+    found = []
+    for f in stackup.factors:
+        for m in _STANDARD.findall(f.zone_origin):
+            if m not in found:
+                found.append(m)
+    return found
+
+
+def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationResult) -> tuple[str, ...]:
+    w = []
+    g = stackup.geometry
+    if g.K1 > 0.9:
+        w.append(f"K1 = {g.K1:.3f} is close to 1: the cycloid profile is near its looping limit.")
+    if stackup.total.minus3sigma_arcmin < 0:
+        frac = sim.output.negative_fraction
+        share = f" ({frac * 100:.2f} % of the samples)" if frac is not None and sim.model == "linear" else ""
+        w.append(f"mean − 3σ = {stackup.total.minus3sigma_arcmin:.3f} arcmin < 0: the linear model predicts "
+                 f"interference (negative lost motion){share}; it cannot see that a gap stops at zero.")
+    zero_mean_mods = [f for f in stackup.factors if f.key in ("equidistance_modification", "moving_distance_modification")
+                      and f.zone_origin == "explicit" and f.zone_lower_um == -f.zone_upper_um and f.zone_upper_um > 0]
+    if zero_mean_mods:
+        w.append("the profile modifications are read as zero-mean errors (the paper's reading, errata E7); a designed "
+                 "modification has a mean: leave its zone out to use the nominal value.")
+    if any("assumption" in f.zone_origin for f in stackup.factors):
+        w.append("some zones rest on documented assumptions (docs/standards.md), e.g. the cycloid stage "
+                 "(no public JB/T 10419-2005): check them against supplier data.")
+    if sim.preload_fraction is not None and sim.preload_fraction > 0.01:
+        w.append(f"contact model: the cycloid stage is preloaded (rigid interference at some pin) in "
+                 f"{sim.preload_fraction * 100:.1f} % of the units; per-pin scatter is large against the "
+                 f"designed clearance (docs/contact.md).")
+    if g.crank_circle_radius_is_default:
+        w.append(f"crank circle radius a0 not given: the first-stage centre distance {g.crank_circle_radius_mm:g} mm is used.")
+    if sim.partial:
+        w.append(f"interrupted: the simulation covers {sim.samples_done:,} of {sim.samples:,} samples.")
+    return tuple(w)
+
+
+def build_report_data(problem: Problem, stackup: StackupResult, simulation: SimulationResult,
+                      spec_arcmin: float | None, comparison: Comparison | None = None,
+                      contact: NominalContact | None = None) -> ReportData:
+    return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact,
+                      validity_warnings(problem, stackup, simulation),
+                      _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))

@@ -1,0 +1,327 @@
+"""The commands: each maps its flags to API parameters and its result to the outputs."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from rvbacklash.cli.app import app
+from rvbacklash.cli.common import (CONTACT_NOTE, DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, METHOD_OPTION,
+                                   MODEL_OPTION, PLOT_OPTION, QUIET_OPTION, SAMPLES_OPTION, SEED_OPTION, SPEC_OPTION,
+                                   WORKERS_OPTION, Format, Outputs, command, csv_option, json_option, parse_samples,
+                                   progress_bar, stdout_console, workers_or_none)
+from rvbacklash.errors import InputError
+
+
+@app.command()
+@command
+def analyze(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    json_out: Optional[Path] = json_option(),
+    csv_out: Optional[Path] = csv_option("the factor table"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Stack-up and sensitivity of the linear model (Sun et al. 2014, Tables 2-3, Eq. (1)-(7))."""
+    import rvbacklash.api as api
+    from rvbacklash.report import tables
+    from rvbacklash.report.files import render_csv, render_json
+
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out)
+    result = api.analyze(design)
+    data, rows = result.to_dict(), result.rows()
+    console = stdout_console()
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows)},
+               lambda: (tables.print_stackup(result, console), tables.print_sources(result, console)), data, rows)
+
+
+@app.command()
+@command
+def simulate(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    samples: str = SAMPLES_OPTION,
+    seed: int = SEED_OPTION,
+    spec_arcmin: Optional[float] = SPEC_OPTION,
+    method: str = METHOD_OPTION,
+    model: str = MODEL_OPTION,
+    quantile: list[float] = typer.Option([], "--quantile", help="Extra quantile to report (0 < p < 1); repeatable."),
+    workers: int = WORKERS_OPTION,
+    json_out: Optional[Path] = json_option(),
+    csv_out: Optional[Path] = csv_option("the statistics"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Monte-Carlo simulation of the output backlash, with confidence intervals and yield."""
+    import rvbacklash.api as api
+    from rvbacklash.report import tables
+    from rvbacklash.report.files import render_csv, render_json
+
+    n = parse_samples(samples) if method != "exact" else None
+    threads = workers_or_none(workers)
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out)
+    problem = api.prepare(design)
+    with progress_bar(n, note=CONTACT_NOTE if model == "contact" else None) as progress:
+        result = api.simulate(problem, samples=n if n is not None else 1, seed=seed, method=method,
+                              spec_arcmin=spec_arcmin, quantiles=quantile, workers=threads, model=model,
+                              progress=progress)
+    data, rows = result.to_dict(), result.rows()
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows)},
+               lambda: tables.print_simulation(result, stdout_console()), data, rows)
+    if result.partial:
+        raise typer.Exit(130)
+
+
+def parse_scenario(text: str):
+    """'NAME:key=value,key=value' -> Scenario. Keys: involute, cycloid, crank, all, edition, or a
+    factor key; values: grades (edition: 1995 | 2013); each key once."""
+    from rvbacklash.analysis.scenarios import Scenario
+
+    name, sep, body = text.partition(":")
+    if not sep or not name.strip():
+        raise InputError("--scenario", text, "allowed: NAME:key=grade[,key=grade...], e.g. b:involute=5")
+    overrides: dict[str, int | str] = {}
+    for item in (p.strip() for p in body.split(",")):
+        key, eq, value = item.partition("=")
+        key, value = key.strip(), value.strip()
+        if not item or not eq or not key or not value:
+            raise InputError("--scenario", text, f"'{item}' is not key=grade; allowed: NAME:key=grade[,key=grade...]")
+        if key in overrides:
+            raise InputError("--scenario", text, f"key '{key}' is given twice; allowed: each key once")
+        if key == "edition":
+            overrides[key] = value
+            continue
+        try:
+            overrides[key] = int(value)
+        except ValueError:
+            raise InputError("--scenario", text, f"grade of '{key}' must be an integer, got '{value}'") from None
+    try:
+        return Scenario(name.strip(), overrides)
+    except InputError as e:
+        raise InputError("--scenario", text, e.allowed if not e.has_value else f"{e.value}: {e.allowed}") from None
+
+
+SCENARIO_OPTION = typer.Option([], "--scenario", help="NAME:key=grade,... (keys: involute, cycloid, crank, all, "
+                                                      "edition, or a factor key); repeatable.")
+PAPER_OPTION = typer.Option(False, "--paper", help="Add the paper's Fig. 4 scenarios (a)-(d).")
+
+
+@app.command()
+@command
+def compare(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    scenario: list[str] = SCENARIO_OPTION,
+    paper: bool = PAPER_OPTION,
+    samples: str = typer.Option("1000000", "--samples", "-n", help="Samples per scenario (e.g. 1e6)."),
+    seed: int = typer.Option(0, "--seed", help="Seed (an integer >= 0), the same for every scenario."),
+    spec_arcmin: Optional[float] = SPEC_OPTION,
+    method: str = METHOD_OPTION,
+    model: str = MODEL_OPTION,
+    workers: int = WORKERS_OPTION,
+    json_out: Optional[Path] = json_option("the scenario table"),
+    csv_out: Optional[Path] = csv_option("the scenario table"),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG overlay of the distributions to FILE.",
+                                        metavar="FILE"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Compare precision-grade scenarios of one design (Sun et al. 2014, Fig. 4)."""
+    import rvbacklash.api as api
+    from rvbacklash.report import tables
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.report.plots import scenario_overlay_svg
+
+    n = parse_samples(samples) if method != "exact" else None
+    chosen = [parse_scenario(text) for text in scenario]
+    if not chosen and not paper:
+        raise InputError("--scenario", None, "allowed: at least one --scenario NAME:KEY=GRADE, or --paper")
+    threads = workers_or_none(workers)
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
+    problem = api.prepare(design)
+    with progress_bar(n, note=CONTACT_NOTE if model == "contact" else None) as progress:
+        results = api.compare(problem, chosen, paper=paper, samples=n if n is not None else 1, seed=seed,
+                              method=method, spec_arcmin=spec_arcmin, model=model, workers=threads,
+                              progress=progress)
+    data, rows = results.to_dict(), results.rows()
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
+                "--plot": lambda: scenario_overlay_svg(results.scenarios, spec_arcmin,
+                                                       f"{problem.name}: precision-grade scenarios")},
+               lambda: tables.print_scenarios(results, stdout_console()), data, rows)
+    if results.partial:
+        raise typer.Exit(130)
+
+
+@app.command()
+@command
+def report(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    output: Path = typer.Option(..., "--output", "-o", help="The HTML file to write.", metavar="FILE"),
+    samples: str = SAMPLES_OPTION,
+    seed: int = SEED_OPTION,
+    spec_arcmin: Optional[float] = SPEC_OPTION,
+    method: str = METHOD_OPTION,
+    model: str = MODEL_OPTION,
+    scenario: list[str] = SCENARIO_OPTION,
+    paper: bool = PAPER_OPTION,
+    workers: int = WORKERS_OPTION,
+    json_out: Optional[Path] = json_option("every number of the report"),
+    csv_out: Optional[Path] = csv_option("the key numbers"),
+    fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
+                                                              "written), json or csv (the key numbers)."),
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """One self-contained HTML report: design, factors, stack-up, charts, Monte-Carlo, scenarios."""
+    import rvbacklash.api as api
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.report.html import render_html
+
+    n = parse_samples(samples) if method != "exact" else None
+    chosen = [parse_scenario(text) for text in scenario]
+    threads = workers_or_none(workers)
+    out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)
+    problem = api.prepare(design)
+    with progress_bar(n, note=CONTACT_NOTE if model == "contact" else None) as progress:
+        data = api.make_report(problem, samples=n if n is not None else 1, seed=seed, method=method,
+                          spec_arcmin=spec_arcmin, scenarios=chosen, paper=paper, model=model, workers=threads,
+                          progress=progress)
+    summary = {"report": str(output.resolve()), **data.metadata(), "key_numbers": data.key_numbers()}
+    rows = data.rows()
+    out.finish({"--output": lambda: render_html(data), "--json": lambda: render_json(data.to_dict()),
+                "--csv": lambda: render_csv(rows)},
+               lambda: stdout_console().print(f"report written to {output.resolve()}"
+                                              + (" [bold red](PARTIAL: interrupted)[/]" if data.partial else "")),
+               summary, rows)
+    if data.partial:
+        raise typer.Exit(130)
+
+
+@app.command()
+@command
+def contact(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    crank_angle_deg: float = typer.Option(0.0, "--crank-angle-deg", help="Crank angle of the measurement [deg], "
+                                                                         "-360 to 360."),
+    json_out: Optional[Path] = json_option(),
+    csv_out: Optional[Path] = csv_option("the per-disc table"),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of the disc, the pins and the first "
+                                                             "contacts to FILE.", metavar="FILE"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Play of the nominal design from the exact cycloid-pin geometry: per disc and direction,
+    the first-contact pins, and the output lost motion [arcmin]."""
+    import rvbacklash.api as api
+    from rvbacklash.report import tables
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.report.plots import contact_svg
+
+    api.check_crank_angle(crank_angle_deg)
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
+    result = api.contact(design, crank_angle_deg=crank_angle_deg)
+    data, rows = result.to_dict(), result.rows()
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
+                "--plot": lambda: contact_svg(result)},
+               lambda: tables.print_contact(result, stdout_console()), data, rows)
+
+
+tolerance_app = typer.Typer(help="Tolerances from precision grades (ISO 1328-1, ISO 286).", no_args_is_help=True,
+                            rich_markup_mode=None)
+app.add_typer(tolerance_app, name="tolerance")
+
+
+@tolerance_app.command("iso1328")
+@command
+def tolerance_iso1328(
+    edition: str = typer.Option("1995", "--edition", help="1995 | 2013"),
+    module: float = typer.Option(..., "--module", help="Module m [mm]."),
+    diameter: float = typer.Option(..., "--diameter", help="Reference diameter d [mm]."),
+    width: float = typer.Option(..., "--width", help="Face width b [mm]."),
+    grade: int = typer.Option(..., "--grade", help="Grade (1995: 0-12) or class (2013: 1-11)."),
+    json_out: Optional[Path] = json_option("the tolerances"),
+    csv_out: Optional[Path] = csv_option("the tolerances"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Gear tolerances f_pt, F_p, F_alpha, f_falpha, F_beta, F_r [um] of one gear."""
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.standards.iso1328 import iso1328_tolerances
+
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out)
+    t = iso1328_tolerances(edition, module, diameter, width, grade)
+    data = t.to_dict()
+
+    def table() -> None:
+        sys.stdout.write(f"{t.standard}, grade {t.grade}: m = {module:g} mm, d = {diameter:g} mm, b = {width:g} mm "
+                         f"({t.note})\n")
+        for k in ("fpt_um", "Fp_um", "Falpha_um", "ffalpha_um", "Fbeta_um", "Fr_um"):
+            sys.stdout.write(f"  {k:11s} {getattr(t, k):8.1f}\n")
+
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv([data])}, table, data, [data])
+
+
+@tolerance_app.command("iso286")
+@command
+def tolerance_iso286(
+    size: float = typer.Option(..., "--size", help="Nominal size D [mm]."),
+    grade: str = typer.Option(..., "--grade", help="IT1 .. IT12"),
+    fit: Optional[str] = typer.Option(None, "--fit", help="A fit such as H7/g6."),
+    json_out: Optional[Path] = json_option("the tolerance and fit"),
+    csv_out: Optional[Path] = csv_option("the tolerance and fit"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Standard tolerance IT [um] and, optionally, the limits and clearance of a fit."""
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.standards import iso286
+
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out)
+    g = iso286.parse_it(grade)
+    step = iso286.size_step_mm(size)
+    data = {"standard": "ISO 286-1:2010", "size_mm": size, "grade": f"IT{g}", "size_step_mm": list(step),
+            "IT_um": iso286.it_um(g, size)}
+    if fit is not None:
+        data["fit"] = iso286.fit(fit, size).to_dict()
+
+    def table() -> None:
+        sys.stdout.write(f"ISO 286-1 IT{g} at {size:g} mm (step {step[0]:g}..{step[1]:g}): {data['IT_um']:g} um\n")
+        if fit is not None:
+            f = data["fit"]
+            sys.stdout.write(f"  fit {f['fit']}: hole {f['hole_lower_um']:+g}/{f['hole_upper_um']:+g} um, shaft "
+                             f"{f['shaft_lower_um']:+g}/{f['shaft_upper_um']:+g} um, clearance "
+                             f"{f['clearance_min_um']:g} .. {f['clearance_max_um']:g} um\n")
+
+    row = {k: v for k, v in data.items() if k not in ("fit", "size_step_mm")} | (
+        {f"fit_{k}": v for k, v in data["fit"].items()} if fit is not None else {})
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv([row])}, table, data, [row])
+
+
+@app.command()
+@command
+def schema() -> None:
+    """Print the JSON schema of the design file."""
+    from rvbacklash.design.schema import Design
+    from rvbacklash.report.files import render_json
+
+    sys.stdout.write(render_json(Design.model_json_schema()))
+
+
+@app.command()
+@command
+def examples(name: Optional[str] = typer.Argument(None, help="Print this example's TOML.")) -> None:
+    """List the built-in example designs, or print one to start a design from."""
+    from rvbacklash.design.loading import available_examples, example_text, load_design
+
+    if name is None:
+        for n in available_examples():
+            sys.stdout.write(f"{n:10s} {load_design(n).description}\n")
+        return
+    sys.stdout.write(example_text(name))

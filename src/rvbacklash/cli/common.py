@@ -1,0 +1,165 @@
+"""What every command shares: the same flags with the same meaning, one-line errors that name
+flags (not Python parameters), file outputs checked before any work, progress on a terminal."""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import math
+import sys
+from enum import Enum
+from pathlib import Path
+from typing import Callable, Iterator, Optional
+
+import typer
+
+from rvbacklash.errors import InputError
+
+DESIGN_HELP = "TOML design file, or a built-in example name (see `rvbacklash examples`)."
+
+# Python parameter of the library -> the flag that sets it
+FLAGS = {
+    "samples": "--samples", "seed": "--seed", "method": "--method", "model": "--model",
+    "spec_arcmin": "--spec-arcmin", "quantiles": "--quantile", "workers": "--workers",
+    "crank_angle_deg": "--crank-angle-deg", "scenarios": "--scenario", "paper": "--paper",
+    "module_mm": "--module", "diameter_mm": "--diameter", "width_mm": "--width", "grade": "--grade",
+    "edition": "--edition", "size_mm": "--size", "fit": "--fit",
+}
+
+
+def flag_of(field: str) -> str:
+    return FLAGS.get(field, field)
+
+
+class Format(str, Enum):
+    table = "table"
+    json = "json"
+    csv = "csv"
+
+
+# --- the shared options: one meaning everywhere -------------------------------------------------
+
+def json_option(what: str = "the full result"):
+    return typer.Option(None, "--json", help=f"Write {what} as JSON to FILE ('-': standard output).",
+                        metavar="FILE")
+
+
+def csv_option(what: str = "the table"):
+    return typer.Option(None, "--csv", help=f"Write {what} as CSV to FILE ('-': standard output).", metavar="FILE")
+
+
+FORMAT_OPTION = typer.Option(Format.table, "--format", help="What to print on standard output: table, json or csv.")
+FORCE_OPTION = typer.Option(False, "--force", help="Replace existing output files.")
+QUIET_OPTION = typer.Option(False, "--quiet", "-q", help="Print nothing on standard output (files are still written).")
+SAMPLES_OPTION = typer.Option("1000000", "--samples", "-n", help="Number of Monte-Carlo samples (e.g. 1e6).")
+SEED_OPTION = typer.Option(0, "--seed", help="Seed (an integer >= 0; 0 is valid): same seed, same numbers.")
+SPEC_OPTION = typer.Option(None, "--spec-arcmin", help="Spec of the output backlash (upper limit) [arcmin].")
+METHOD_OPTION = typer.Option("default", "--method", help="default | box-muller | sobol | exact (linear model only).")
+MODEL_OPTION = typer.Option("linear", "--model", help="linear (Eq. (2)) | contact (exact cycloid-pin contact, per-pin "
+                                                      "errors; docs/contact.md).")
+WORKERS_OPTION = typer.Option(0, "--workers", help="Worker threads (0 = all cores); results do not depend on it.")
+PLOT_OPTION = typer.Option(None, "--plot", help="Write the figure as SVG to FILE.", metavar="FILE")
+
+
+def command(fn: Callable) -> Callable:
+    """Run a command: bad input -> one line naming the flag, exit 2; Ctrl-C -> exit 130."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except InputError as e:
+            sys.stderr.write(f"error: {e.renamed(flag_of(e.field))}\n")
+            raise typer.Exit(2) from None
+        except KeyboardInterrupt:
+            sys.stderr.write("interrupted: nothing was written\n")
+            raise typer.Exit(130) from None
+    return wrapper
+
+
+def parse_samples(text: str) -> int:
+    """'10000000', '1e7' or '10_000_000' -> 10000000; anything not a whole number is an error."""
+    try:
+        value = float(text.replace("_", ""))
+    except ValueError:
+        raise InputError("samples", text, "allowed: a whole number of samples >= 1") from None
+    if not math.isfinite(value) or value != int(value):
+        raise InputError("samples", text, "allowed: a whole number of samples >= 1")
+    return int(value)
+
+
+def workers_or_none(workers: int) -> Optional[int]:
+    if workers < 0:
+        raise InputError("workers", workers, "allowed: 0 (all cores) or a number of threads >= 1")
+    return workers or None
+
+
+class Outputs:
+    """The files and the standard output of one command, checked before any work is done."""
+
+    def __init__(self, fmt: Format, force: bool, quiet: bool, **paths: Optional[Path]):
+        from rvbacklash.report.files import check_distinct, check_writable, is_stdout
+
+        self.fmt, self.force, self.quiet = fmt, force, quiet
+        self.paths = {f"--{name.replace('_', '-')}": p for name, p in paths.items() if p is not None}
+        check_distinct(self.paths)
+        to_stdout = [o for o, p in self.paths.items() if is_stdout(p)]
+        if to_stdout and fmt is not Format.table:
+            raise InputError("--format", fmt.value, f"{to_stdout[0]} - already writes to standard output; allowed: "
+                                                    f"one of them")
+        self.stdout_taken = bool(to_stdout)
+        for option, path in self.paths.items():
+            check_writable(option, path, force)
+
+    def finish(self, renders: dict[str, Callable[[], str | bytes]], table: Callable[[], None], data, rows) -> None:
+        """Render every requested file, write them all (or none), then print the result."""
+        from rvbacklash.report.files import is_stdout, render_csv, render_json, write_files
+
+        contents = {o: (p, renders[o]()) for o, p in self.paths.items()}
+        write_files(contents, self.force)
+        if self.quiet or self.stdout_taken:
+            return
+        if self.fmt is Format.json:
+            sys.stdout.write(render_json(data))
+        elif self.fmt is Format.csv:
+            sys.stdout.write(render_csv(rows))
+        else:
+            table()
+            for p in (p for p in self.paths.values() if not is_stdout(p)):
+                sys.stdout.write(f"wrote {p}\n")
+
+
+def stdout_console():
+    from rich.console import Console
+
+    # files and pipes get a wide, fixed layout (no wrapping of the tables); terminals their own width
+    return Console() if sys.stdout.isatty() else Console(width=160)
+
+
+@contextlib.contextmanager
+def progress_bar(total: int | None, what: str = "sampling", note: str | None = None,
+                 enabled: bool = True) -> Iterator[Callable[[int], None] | None]:
+    """A rich progress bar on stderr when stderr is a terminal; else nothing. ``note`` is shown
+    until the first step finishes (e.g. a one-time compilation of kernels)."""
+    if not enabled or total is None or not sys.stderr.isatty():
+        yield None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn, TimeRemainingColumn
+
+    with Progress("[progress.description]{task.description}", BarColumn(), MofNCompleteColumn(),
+                  TimeElapsedColumn(), TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(note or what, total=total)
+        started = False
+
+        def update(done: int) -> None:
+            nonlocal started
+            if not started:
+                bar.update(task, description=what)
+                started = True
+            bar.update(task, completed=done)
+
+        yield update
+
+
+CONTACT_NOTE = "starting (the first contact-model run compiles its kernels, ~15 s, once)"

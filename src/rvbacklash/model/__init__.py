@@ -1,1 +1,0 @@
-"""Backlash models: raw factor values (n, 21) [um] -> output backlash (n,) [arcmin]."""

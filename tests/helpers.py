@@ -1,0 +1,64 @@
+"""Helpers shared by the tests (importable: pytest puts tests/ on sys.path)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from rvbacklash.design.loading import design_from_toml, example_text
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run_cli_process(*args, cwd: Path | None = None, timeout: float = 180) -> subprocess.CompletedProcess:
+    """Run the installed command line exactly as a user would (a fresh interpreter)."""
+    return subprocess.run([sys.executable, "-m", "rvbacklash", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd, timeout=timeout)
+
+
+def run_cli(*args) -> subprocess.CompletedProcess:
+    """Run the command line's entry point in this process (same code path as the ``rvbacklash``
+    script, without paying the interpreter start-up for every case): exit code, stdout, stderr."""
+    import contextlib
+    import io
+
+    from rvbacklash.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    code = 0
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            main([str(a) for a in args])
+        except SystemExit as e:
+            code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+    return subprocess.CompletedProcess(["rvbacklash", *map(str, args)], code, out.getvalue(), err.getvalue())
+
+
+def one_line_error(p: subprocess.CompletedProcess, fragment: str = "") -> str:
+    """The single stderr line of a refused command (exit 2, no traceback); checks ``fragment``."""
+    assert p.returncode == 2, (p.returncode, p.stdout[-500:], p.stderr[-2000:])
+    assert "Traceback" not in p.stderr, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), p.stderr
+    assert fragment in lines[0], lines[0]
+    return lines[0]
+
+
+def with_factor(toml: str, key: str, body: str) -> str:
+    """Replace (or add) the table [factors.key] of an example's TOML by ``body``."""
+    head = f"[factors.{key}]"
+    if head not in toml:
+        return toml + "\n" + head + "\n" + body + "\n"
+    start = toml.index(head)
+    end = toml.find("\n[", start + 1)
+    return toml[:start] + head + "\n" + body + "\n" + (toml[end:] if end != -1 else "")
+
+
+def example_with(name: str, *replacements: tuple[str, str]):
+    """A built-in example with text replacements, as a validated Design."""
+    text = example_text(name)
+    for old, new in replacements:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return design_from_toml(text)

@@ -1,0 +1,129 @@
+"""The HTML report: end to end, in a real headless browser, and its bad inputs."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from helpers import one_line_error, run_cli, run_cli_process
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    d = tmp_path_factory.mktemp("report")
+    html, js = d / "report.html", d / "report.json"
+    p = run_cli_process("report", "rv80e", "--paper", "--spec-arcmin", "3", "--samples", "200000", "--seed", "1",
+                "-o", html, "--json", js)
+    assert p.returncode == 0, p.stderr
+    assert str(html.resolve()) in p.stdout
+    return html, json.loads(js.read_text())
+
+
+def test_report_is_self_contained(report):
+    html, data = report
+    text = html.read_text()
+    # works offline: nothing is fetched from anywhere (only XML namespaces and in-page url(#id))
+    import re
+    assert not re.search(r"https?://(?!www\.w3\.org/)", text)
+    assert not re.search(r"url\((?!#)", text)
+    for needle in ("<script src", "<link ", "@import", "<img src=\"http"):
+        assert needle not in text, needle
+    for section in ("Design", "Stack-up", "Factors", "What to tighten", "Monte-Carlo simulation",
+                    "Cycloid–pin contact", "Precision-grade scenarios", "Run"):
+        assert f">{section}" in text
+    for fig in ("fig-pareto", "fig-tornado", "fig-histogram", "fig-convergence", "fig-scenarios", "fig-contact"):
+        assert f'id="{fig}"' in text
+    meta = data["metadata"]
+    assert meta["seed"] == 1 and meta["samples"] == 200000 and meta["method"] == "default"
+    assert len(meta["input_sha256"]) == 64 and meta["rvbacklash_version"]
+    assert "ISO 1328-1:1995" in meta["standards"] and "assumption" in meta["standards"]
+    assert len(data["comparison"]["scenarios"]) == 4 and not meta["partial"]
+    assert 'id="partial-banner"' not in text
+    # every length on the page is in the units the rest of the page uses: no radians
+    assert "[rad]" not in text and "disc 1" in text.lower()
+    # narrow screens scroll the wide tables; printing has its own layout
+    assert '<div class="scroll"><table id="factor-table">' in text and "@media print" in text
+
+
+def test_report_in_a_real_browser(report, tmp_path):
+    """Open the report in Debian's chromium: no console errors, every figure has a size, and
+    every number marked in the page equals the JSON output."""
+    if os.environ.get("RVBACKLASH_SKIP_BROWSER") == "1":
+        pytest.skip("RVBACKLASH_SKIP_BROWSER=1")
+    assert Path(CHROMIUM).exists(), "chromium missing: run tools/ensure-chromium (make test does)"
+    from playwright.sync_api import sync_playwright
+
+    html, data = report
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": 1200, "height": 1500})
+        problems = []
+        page.on("console", lambda m: problems.append(m.text) if m.type in ("error", "warning") else None)
+        page.on("pageerror", lambda e: problems.append(str(e)))
+        page.goto(html.resolve().as_uri())
+        page.wait_for_load_state("load")
+        boxes = [f.bounding_box() for f in page.query_selector_all("figure svg")]
+        marked = page.eval_on_selector_all(
+            "[data-key]", "els => els.map(e => [e.dataset.key, e.dataset.value, e.textContent, e.dataset.scale || '1'])")
+        page.screenshot(path=str(tmp_path / "report.png"))
+        # a narrow window (<= 800 px): the wide tables scroll inside their box, the page does not
+        page.set_viewport_size({"width": 760, "height": 1200})
+        page_width = page.evaluate("document.documentElement.scrollWidth")
+        table_fits = page.evaluate("document.querySelector('#factor-table').parentElement.clientWidth <= 760")
+        browser.close()
+    assert problems == []
+    assert page_width <= 760 and table_fits, page_width
+    assert len(boxes) == 6 and all(b and b["width"] > 100 and b["height"] > 100 for b in boxes)
+    keys = data["key_numbers"]
+    assert {k for k, *_ in marked} == set(keys)
+    for key, value, text, scale in marked:
+        assert float(value) == keys[key], key
+        shown = float(text)
+        decimals = len(text.partition(".")[2])
+        assert shown == pytest.approx(keys[key] * float(scale), abs=0.5 * 10 ** -decimals + 1e-12), key
+    assert (tmp_path / "report.png").stat().st_size > 10_000
+
+
+def test_existing_file_needs_force(tmp_path):
+    out = tmp_path / "r.html"
+    out.write_text("keep me")
+    p = run_cli("report", "sun2014", "-n", "1000", "-o", out)
+    assert p.returncode == 2 and "--force" in p.stderr and "Traceback" not in p.stderr
+    assert out.read_text() == "keep me"
+    p = run_cli("report", "sun2014", "-n", "1000", "-o", out, "--force")
+    assert p.returncode == 0 and out.read_text().startswith("<!DOCTYPE html>")
+
+
+@pytest.mark.parametrize("case", ["unwritable", "directory", "invalid design", "bad samples"])
+def test_bad_input_leaves_nothing_behind(case, tmp_path, sun2014_toml):
+    target = tmp_path / "out" / "r.html"
+    target.parent.mkdir()
+    design = "sun2014"
+    extra = []
+    if case == "unwritable":
+        if os.geteuid() == 0:  # root writes anywhere: use a path whose parent is a file
+            blocker = tmp_path / "out" / "blocker"
+            blocker.write_text("")
+            target = blocker / "r.html"
+        else:
+            target.parent.chmod(0o500)
+    elif case == "directory":
+        target = tmp_path / "out"
+    elif case == "invalid design":
+        bad = tmp_path / "bad.toml"
+        bad.write_text(sun2014_toml.replace("pins = 40", "pins = 41"))
+        design = str(bad)
+    else:
+        extra = ["-n", "-3"]
+    before = sorted(p.name for p in (tmp_path / "out").iterdir())
+    p = run_cli("report", design, "-o", target, *extra)
+    one_line_error(p)
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == before  # no partial or temporary file
