@@ -55,14 +55,15 @@ def analyze(design: DesignLike) -> StackupResult:
 def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 0, method: str = "default",
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: Iterable[float] = (), workers: int | None = None, model: str | Callable = "linear",
-             progress: Callable[[int], None] | None = None) -> SimulationResult:
+             progress: Callable[[int], None] | None = None, stream: tuple[int, ...] = ()) -> SimulationResult:
     """Monte-Carlo simulation (or ``method="exact"``): distributions of the model's outputs with
     confidence intervals, yield against the specs. Defaults: 10^6 samples, seed 0, the linear
     model, all cores. See ``rvbacklash.analysis.simulation.simulate``."""
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     return _simulate(prepare(design), samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin,
-                     specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress)
+                     specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
+                     stream=stream)
 
 
 def exact(design: DesignLike, *, spec_arcmin: float | None = None, quantiles: Iterable[float] = ()) -> SimulationResult:

@@ -218,3 +218,19 @@ def test_simulation_result_is_typed_and_short(rv80e_problem):
     frame = r.to_frame()
     assert frame.loc[frame["statistic"] == "mean", "value"].item() == pytest.approx(r.mean_arcmin)
     assert "<table>" in r._repr_html_()
+
+
+def test_streams_of_one_seed_are_independent_and_reproducible(sun2014_problem):
+    """A sweep point runs on SeedSequence(seed, spawn_key=(point, block)): same stream, same
+    numbers; other stream, other numbers; the empty stream is the plain seed."""
+    from rvbacklash.sampling.engine import block_generator
+
+    a = simulate(sun2014_problem, samples=5000, seed=3, stream=(7,))
+    b = simulate(sun2014_problem, samples=5000, seed=3, stream=(7,))
+    c = simulate(sun2014_problem, samples=5000, seed=3, stream=(8,))
+    assert a.to_dict()["outputs"] == b.to_dict()["outputs"] and a.mean_arcmin != c.mean_arcmin
+    assert a.stream == (7,)
+    assert block_generator(3, 0, ()).random() == block_generator(3, 0).random()
+    assert block_generator(3, 0, (7,)).random() != block_generator(3, 0).random()
+    with pytest.raises(InputError, match="stream"):
+        simulate(sun2014_problem, samples=10, stream=(-1,))

@@ -36,20 +36,21 @@ def default_workers() -> int:
 
 # --- models ----------------------------------------------------------------------------------
 
-def _linear(problem: Problem, method: str, seed: int) -> BlockSource:
+def _linear(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = ()) -> BlockSource:
     from rvbacklash.models.linear import linear_model
 
     return linear_source(method, seed, build_input_transform(problem), linear_model(problem),
-                         problem.sensitivities_arcmin_per_um)
+                         problem.sensitivities_arcmin_per_um, stream)
 
 
-def _contact(problem: Problem, method: str, seed: int) -> BlockSource:
+def _contact(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = ()) -> BlockSource:
     from rvbacklash.sampling.contact_source import contact_source
 
-    return contact_source(problem, method, seed)
+    return contact_source(problem, method, seed, stream)
 
 
-MODELS: dict[str, Callable[[Problem, str, int], BlockSource]] = {"linear": _linear, "contact": _contact}
+# name -> factory(problem, method, seed, stream) of the model's block source
+MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact}
 
 
 # --- results ---------------------------------------------------------------------------------
@@ -103,6 +104,7 @@ class SimulationResult(Result):
     model: str
     method: str
     seed: int | None
+    stream: tuple[int, ...]  # spawn-key prefix of the run's generators (e.g. a sweep point); () alone
     samples: int | None  # requested (None: exact)
     samples_done: int | None
     partial: bool  # interrupted (Ctrl-C): the statistics cover samples_done only
@@ -204,7 +206,8 @@ def _curve(ex: ExactDistribution, lo: float, hi: float, points: int = 400) -> Cu
 def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0, method: str = "default",
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: tuple[float, ...] = (), workers: int | None = None, chunk_blocks: int = 4,
-             model: str | Callable = "linear", progress: Callable[[int], None] | None = None) -> SimulationResult:
+             model: str | Callable = "linear", progress: Callable[[int], None] | None = None,
+             stream: tuple[int, ...] = ()) -> SimulationResult:
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
@@ -212,8 +215,13 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol (scrambled QMC),
     exact (the linear model's exact distribution). ``spec_arcmin`` is the upper limit of the
     primary output; ``specs`` gives limits of other outputs by name. Every method is seeded;
-    seed 0 is a valid seed. Ctrl-C returns the finished blocks with ``partial=True``.
+    seed 0 is a valid seed; ``stream`` (a tuple of integers >= 0) selects an independent stream of
+    the same seed: block b draws from ``SeedSequence(seed, spawn_key=(*stream, b))``. Ctrl-C
+    returns the finished blocks with ``partial=True``.
     """
+    if not isinstance(stream, tuple) or any(isinstance(x, bool) or not isinstance(x, (int, np.integer)) or x < 0
+                                            for x in stream):
+        raise InputError("stream", stream, "allowed: a tuple of integers >= 0")
     check_run_parameters(samples, seed, method, spec_arcmin, quantiles, workers)
     qs = _quantile_set(quantiles)
     if isinstance(model, str) and model not in MODELS:
@@ -223,10 +231,10 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
             raise InputError("method", "exact", "allowed with model linear only (the exact distribution of Eq. (2))")
         return exact_result(problem, spec_arcmin=spec_arcmin, quantiles=qs)
     if isinstance(model, str):
-        source = MODELS[model](problem, method, int(seed))
+        source = MODELS[model](problem, method, int(seed), tuple(int(x) for x in stream))
         model_name = model
     else:
-        source = linear_source(method, int(seed), build_input_transform(problem), model, None)
+        source = linear_source(method, int(seed), build_input_transform(problem), model, None, tuple(stream))
         model_name = getattr(model, "__name__", "custom")
     limits = _limits(source, spec_arcmin, specs)
     primary = source.outputs[0]
@@ -255,7 +263,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
             curve = _curve(exact_distribution(problem), hist.edges[0], hist.edges[-1])
         except InputError:  # correlated non-normal inputs: no exact curve
             pass
-    return SimulationResult(problem.name, model_name, method, int(seed), int(samples), raw.samples, raw.partial,
+    return SimulationResult(problem.name, model_name, method, int(seed), tuple(int(x) for x in stream), int(samples),
+                            raw.samples, raw.partial,
                             raw.elapsed_s, outputs, joint, preload, linear_reference(problem),
                             tuple(raw.convergence), curve)
 
@@ -297,5 +306,5 @@ def exact_result(problem: Problem, *, spec_arcmin: float | None = None,
     out = OutputStatistics("backlash", "arcmin", "output backlash (rigid lost motion)", None, ex.mean, ex.mean,
                            ex.mean, ex.std, None, None, Quantiles("arcmin", table), spec_arcmin, True, y, ppm, cp,
                            cpk, float(ex.cdf(0.0)), hist)
-    return SimulationResult(problem.name, "linear", "exact", None, None, None, False, 0.0, {"backlash": out}, None,
+    return SimulationResult(problem.name, "linear", "exact", None, (), None, None, False, 0.0, {"backlash": out}, None,
                             None, LinearReference(ex.mean, ex.std), (), _curve(ex, lo, hi))

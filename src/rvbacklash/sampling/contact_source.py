@@ -184,6 +184,7 @@ class ContactBlockSource:
 
     method: str
     seed: int
+    stream: tuple[int, ...]
     geometry: ContactGeometry
     codes: np.ndarray
     params: np.ndarray
@@ -198,13 +199,13 @@ class ContactBlockSource:
         g = self.geometry
         out = np.empty((len(self.outputs), n))
         coef, pins, count = self.tables
-        contact_block(block_generator(self.seed, b), n, self.method == "box-muller", self.codes, self.params,
+        contact_block(block_generator(self.seed, b, self.stream), n, self.method == "box-muller", self.codes, self.params,
                       self.ppf_tables, self.linear_idx, self.linear_sens, g.a_mm * g.zc / g.rp_mm, g.pitch_radius_um,
                       g.zp, g.zc, g.discs, coef, pins, count, np.array([IDX[k] for k in STAGE2_ORDER]), out)
         return out
 
 
-def contact_source(problem: Problem, method: str, seed: int) -> ContactBlockSource:
+def contact_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = ()) -> ContactBlockSource:
     if method not in ("default", "box-muller"):
         raise InputError("method", method, "allowed with model 'contact': default, box-muller")
     if problem.correlated:
@@ -217,5 +218,5 @@ def contact_source(problem: Problem, method: str, seed: int) -> ContactBlockSour
     psi = geometry.pin_angles
     tables = mesh_tables(geometry.K1, geometry.pitch_radius_um, geometry.zc, geometry.discs,
                          np.cos(psi), np.sin(psi), MIN_LEVER, CRANK_STEPS)
-    return ContactBlockSource(method, seed, geometry, codes, params, ppf, linear_idx,
+    return ContactBlockSource(method, seed, tuple(stream), geometry, codes, params, ppf, linear_idx,
                               np.ascontiguousarray(problem.sensitivities_arcmin_per_um[linear_idx]), tables)

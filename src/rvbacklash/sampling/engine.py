@@ -43,9 +43,11 @@ PILOT_SIGMAS = 12.0  # histogram range: pilot mean +- 12 pilot standard deviatio
 N_STATS = 7  # per block and output: s1, s2, min, max, n passing the limit, n valid, n negative
 
 
-def block_generator(seed: int, block: int) -> Generator:
-    """The generator of block ``block``: independent of every other block and of the run size."""
-    return Generator(PCG64(SeedSequence(seed, spawn_key=(block,))))
+def block_generator(seed: int, block: int, stream: tuple[int, ...] = ()) -> Generator:
+    """The generator of block ``block``: independent of every other block and of the run size.
+    ``stream`` prefixes the spawn key, e.g. (point,) for the points of a sweep: one seed, many
+    independent runs, ``SeedSequence(seed, spawn_key=(*stream, block))``."""
+    return Generator(PCG64(SeedSequence(seed, spawn_key=(*stream, block))))
 
 
 def block_sizes(samples: int) -> list[int]:
@@ -80,6 +82,7 @@ class LinearSource:
 
     method: str
     seed: int
+    stream: tuple[int, ...]
     transform: InputTransform
     model: Callable[[np.ndarray], np.ndarray]
     fast: tuple[np.ndarray, float] | None  # (weights, offset) of the linear fast path
@@ -89,16 +92,17 @@ class LinearSource:
         """(n, k) independent standard normals of block b."""
         k = self.transform.dimension
         if self.method == "default":
-            return block_generator(self.seed, b).standard_normal((n, k))
+            return block_generator(self.seed, b, self.stream).standard_normal((n, k))
         if self.method == "box-muller":
             out = np.empty((n, k))
-            kernels.box_muller_normals(block_generator(self.seed, b), n, k, out)
+            kernels.box_muller_normals(block_generator(self.seed, b, self.stream), n, k, out)
             return out
         # sobol: one scrambled sequence for the whole run, block b starts at point b * BLOCK_SIZE
         from scipy import special
         from scipy.stats import qmc
 
-        eng = qmc.Sobol(d=max(k, 1), scramble=True, seed=Generator(PCG64(SeedSequence(self.seed))))
+        eng = qmc.Sobol(d=max(k, 1), scramble=True,
+                        seed=Generator(PCG64(SeedSequence(self.seed, spawn_key=self.stream))))
         if b:
             eng.fast_forward(b * BLOCK_SIZE)
         with warnings.catch_warnings():
@@ -111,11 +115,11 @@ class LinearSource:
             weights, offset = self.fast
             if self.method == "default":
                 out = np.empty(n)
-                kernels.linear_normal_block(block_generator(self.seed, b), n, weights, offset, out)
+                kernels.linear_normal_block(block_generator(self.seed, b, self.stream), n, weights, offset, out)
                 return out
             if self.method == "box-muller":
                 out = np.empty(n)
-                kernels.linear_box_muller_block(block_generator(self.seed, b), n, weights, offset, out)
+                kernels.linear_box_muller_block(block_generator(self.seed, b, self.stream), n, weights, offset, out)
                 return out
             z = self.normals(b, n)
             y = np.full(n, offset)
@@ -129,11 +133,11 @@ class LinearSource:
 
 
 def linear_source(method: str, seed: int, transform: InputTransform, model,
-                  sensitivities: np.ndarray | None) -> LinearSource:
+                  sensitivities: np.ndarray | None, stream: tuple[int, ...] = ()) -> LinearSource:
     """Linear models with normal inputs take the compiled fast path; everything else (other
     marginals, non-linear models) maps normals through the copula and calls ``model``."""
     fast = linear_fast_plan(transform, sensitivities) if sensitivities is not None else None
-    return LinearSource(method, seed, transform, model, fast)
+    return LinearSource(method, seed, tuple(stream), transform, model, fast)
 
 
 # --- merged summaries ------------------------------------------------------------------------
