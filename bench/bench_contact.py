@@ -1,11 +1,12 @@
 """Contact-model Monte-Carlo benchmark: prints figures, asserts nothing.
 
-    .venv/bin/python bench/bench_contact.py [--samples 4e6]
+    .venv/bin/python bench/bench_contact.py [--samples 1e6]
 
-1. engine samples/s of the contact model on the rv80e example (40 pins, 2 discs, every pin's
-   and tooth's errors drawn separately, all cores);
-2. numpy alone generating the same random inputs (about 262 draws per sample), in chunks;
-3. their ratio.
+1. engine units/s of the contact model on the rv80e example (40 pins, 2 discs, every part with its
+   own errors, all cores), under both readings of the per-element errors;
+2. numpy alone generating the same number of random inputs per unit (independent reading: about
+   262 draws), in chunks, one thread;
+3. the exact play (scipy root finding on the compiled exact gaps) per unit, for scale.
 """
 
 from __future__ import annotations
@@ -18,28 +19,35 @@ import numpy as np
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--samples", type=float, default=4e6)
+    ap.add_argument("--samples", type=float, default=1e6)
     a = ap.parse_args()
-    from rvbacklash import load_design, simulate
+    import rvbacklash as rb
     from rvbacklash.analysis.simulation import default_workers
+    from rvbacklash.models.contact import exact_play
 
-    d = load_design("rv80e")
-    s2 = d.second_stage
-    draws = 1 + 11 + 2 + 4 * s2.pins + s2.discs * (5 + s2.cycloid_teeth)  # per sample, see contact_source
-    simulate(d, samples=1 << 16, seed=0, model="contact")  # compile / load kernels outside the timing
+    p = rb.prepare("rv80e")
+    g = p.cycloid
+    draws = 1 + 11 + 2 + 4 * g.zp + g.discs * (5 + g.zc)
     n = int(a.samples)
-    t = time.perf_counter()
-    simulate(d, samples=n, seed=1, model="contact", spec_arcmin=3.0)
-    eng = n / (time.perf_counter() - t)
+    for em in ("long_wave", "independent"):
+        rb.simulate(p, samples=1 << 16, seed=0, model="contact", error_model=em)  # compile / load the kernels
+        t = time.perf_counter()
+        r = rb.simulate(p, samples=n, seed=1, model="contact", spec_arcmin=3.0, error_model=em)
+        rate = n / (time.perf_counter() - t)
+        print(f"contact engine, {em:11s} (rv80e, {g.zp} pins, {g.discs} discs, {default_workers()} threads): "
+              f"{rate / 1e3:8.1f} k units/s  (preloaded {r.preload_fraction * 100:.1f} %)")
     rng = np.random.default_rng(1)
     m = 200_000
     t = time.perf_counter()
     for _ in range(5):
         rng.standard_normal((m // 5, draws))
     raw = m / (time.perf_counter() - t)
-    print(f"contact engine (rv80e, {s2.pins} pins, {s2.discs} discs, {default_workers()} threads): {eng / 1e6:6.2f} M samples/s")
-    print(f"numpy generate the {draws} random inputs per sample only (1 thread):  {raw / 1e6:6.2f} M samples/s")
-    print(f"ratio engine / numpy-generate:                                  {eng / raw:6.1f} x")
+    print(f"numpy generating the {draws} random inputs per unit only (1 thread): {raw / 1e3:8.1f} k units/s")
+    units = rb.simulate(p, samples=200, seed=2, model="contact", save_units=200, workers=1).units
+    t = time.perf_counter()
+    for u, _, _ in units:
+        exact_play(g, u)
+    print(f"exact play (root finding on the exact geometry), one unit:        {(time.perf_counter() - t) / 200 * 1e3:8.2f} ms")
 
 
 if __name__ == "__main__":

@@ -24,10 +24,13 @@ from rvbacklash.problem import prepare as _prepare
 # The analyses below load the compiled kernels (numba) and scipy: imported where they are used,
 # so that `analyze` and the command line start fast.
 if TYPE_CHECKING:
+    from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.contact import NominalContact
+    from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
     from rvbacklash.analysis.scenarios import Comparison, Scenario
     from rvbacklash.analysis.simulation import SimulationResult
+    from rvbacklash.analysis.sensitivity_global import SensitivityResult
 
 DesignLike = Union[Design, str, Path, Problem]
 DEFAULT_SAMPLES = 1_000_000  # = analysis.simulation.DEFAULT_SAMPLES (a test keeps them equal)
@@ -55,15 +58,18 @@ def analyze(design: DesignLike) -> StackupResult:
 def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 0, method: str = "default",
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: Iterable[float] = (), workers: int | None = None, model: str | Callable = "linear",
-             progress: Callable[[int], None] | None = None, stream: tuple[int, ...] = ()) -> SimulationResult:
+             progress: Callable[[int], None] | None = None, stream: tuple[int, ...] = (),
+             error_model: str | None = None, save_units: int = 0) -> SimulationResult:
     """Monte-Carlo simulation (or ``method="exact"``): distributions of the model's outputs with
     confidence intervals, yield against the specs. Defaults: 10^6 samples, seed 0, the linear
-    model, all cores. See ``rvbacklash.analysis.simulation.simulate``."""
+    model, all cores. ``error_model`` (contact/elastic models) overrides the design's reading of
+    the per-element errors; ``save_units`` keeps the first units with their errors (see
+    ``measured_units``). See ``rvbacklash.analysis.simulation.simulate``."""
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     return _simulate(prepare(design), samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin,
                      specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
-                     stream=stream)
+                     stream=stream, error_model=error_model, save_units=save_units)
 
 
 def exact(design: DesignLike, *, spec_arcmin: float | None = None, quantiles: Iterable[float] = ()) -> SimulationResult:
@@ -101,20 +107,56 @@ def check_crank_angle(crank_angle_deg: float) -> float:
     return float(crank_angle_deg)
 
 
-def contact(design: DesignLike, *, crank_angle_deg: float = 0.0) -> NominalContact:
-    """Play of the nominal design from the exact cycloid-pin geometry at one crank angle."""
-    from rvbacklash.analysis.contact import nominal_contact
+def contact(design: DesignLike, *, crank_angle_deg: float | None = None, measured=None,
+            unit: int | None = None):
+    """Play of one unit from the exact cycloid-pin geometry: the nominal design, or the units of
+    ``measured`` (a UNIT.toml path, a MeasuredUnit or a list of them; ``unit`` picks one, 0-based).
+    ``crank_angle_deg`` defaults to the unit's own (0 for the nominal design). One unit gives a
+    NominalContact, several a list of them."""
+    from rvbacklash.analysis.contact import measured_contact, nominal_contact
+    from rvbacklash.design.measured import MeasuredUnit, load_units
 
-    return nominal_contact(prepare(design), check_crank_angle(crank_angle_deg))
+    if crank_angle_deg is not None:
+        check_crank_angle(crank_angle_deg)
+    problem = prepare(design)
+    if measured is None:
+        if unit is not None:
+            raise InputError("unit", unit, "allowed only with measured units")
+        return nominal_contact(problem, crank_angle_deg or 0.0)
+    source = str(measured) if isinstance(measured, (str, Path)) else "given units"
+    units = load_units(measured, problem.design) if isinstance(measured, (str, Path)) else \
+        [measured] if isinstance(measured, MeasuredUnit) else list(measured)
+    if unit is not None:
+        if isinstance(unit, bool) or not isinstance(unit, int) or not 0 <= unit < len(units):
+            raise InputError("unit", unit, f"allowed: 0 to {len(units) - 1} ({len(units)} units in {source})")
+        return measured_contact(problem, units[unit], f"unit {unit} of {source}", crank_angle_deg)
+    results = [measured_contact(problem, u, f"unit {k} of {source}" if len(units) > 1 else source, crank_angle_deg)
+               for k, u in enumerate(units)]
+    return results[0] if len(results) == 1 else results
+
+
+def measured_units(design: DesignLike, result: SimulationResult):
+    """The units a run saved (``simulate(..., save_units=N)``) as measured units (UNIT.toml records)."""
+    from rvbacklash.analysis.contact import measured_units as _units
+
+    return _units(prepare(design), result.units)
 
 
 def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 0, method: str = "default",
-           spec_arcmin: float | None = None, scenarios: Iterable[Scenario] = (), paper: bool = False,
-           model: str = "linear", workers: int | None = None,
-           progress: Callable[[int], None] | None = None) -> ReportData:
+                spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
+                scenarios: Iterable[Scenario] = (), paper: bool = False, model: str = "linear",
+                workers: int | None = None, sensitivity: bool = False, allocate: bool = False,
+                yield_target: float | None = None, spec_rigidity_nm_per_arcmin: float | None = None,
+                spec_preload_um: float | None = None,
+                sweep_dir: str | Path | None = None,
+                progress: Callable[[int], None] | None = None) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
-    simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact. An
-    interrupted simulation skips the scenarios; the data are then marked partial."""
+    simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
+    ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
+    histograms); ``sensitivity``: Sobol indices of the model; ``allocate``: the cheapest grades
+    meeting ``spec_arcmin`` [and ``spec_rigidity_nm_per_arcmin``, ``spec_preload_um``] at ``yield_target`` (with
+    the Sobol chart); ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``). An
+    interrupted simulation skips what follows it; the data are then marked partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
     from rvbacklash.analysis.scenarios import Comparison
@@ -123,15 +165,132 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     problem = prepare(design)
+    if allocate and (spec_arcmin is None or yield_target is None):
+        raise InputError("yield_target" if spec_arcmin is not None else "spec_arcmin",
+                         yield_target if spec_arcmin is not None else spec_arcmin,
+                         "allowed: a value; an allocation needs spec_arcmin and yield_target")
+    sweep = None
+    if sweep_dir is not None:
+        from rvbacklash.analysis.sweep import load_sweep
+
+        sweep = load_sweep(sweep_dir)
     stack = _analyze(problem)
     chosen = (_paper_scenarios(problem) if paper else []) + list(scenarios)
-    sim = _simulate(problem, samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin, model=model,
-                    workers=workers, progress=progress)
-    comparison = None
+    sim = _simulate(problem, samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin, specs=specs,
+                    model=model, workers=workers, progress=progress)
+    comparison = elastic = sens = alloc = None
     if chosen:
         n = min(samples, REPORT_SCENARIO_SAMPLES) if method != "exact" else samples
         comparison = Comparison(problem.name, spec_arcmin, model, method, seed, n, (), True,
                                 tuple(s.name for s in chosen)) if sim.partial else \
             _compare(problem, chosen, samples=n, seed=seed, method=method, spec_arcmin=spec_arcmin, model=model,
                      workers=workers)
-    return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem))
+    if model == "elastic" and not sim.partial:
+        from rvbacklash.analysis.hysteresis import elastic_section
+
+        elastic = elastic_section(problem, simulation=sim, specs={**({"lost_motion": spec_arcmin} if spec_arcmin
+                                                                       else {}), **dict(specs or {})}, seed=seed)
+    if (sensitivity or allocate) and not sim.partial:
+        from rvbacklash.analysis.sensitivity_global import global_sensitivity
+
+        sens = global_sensitivity(problem, model=model, seed=seed,
+                                  samples=SENSITIVITY_SAMPLES if model == "linear" else REPORT_SENSITIVITY_SAMPLES)
+    if allocate and not sim.partial:
+        from rvbacklash.analysis.allocation import allocate as _allocate
+
+        alloc = _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
+                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
+                          seed=seed, workers=workers)
+    return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
+                             elastic, sweep)
+
+
+def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
+          progress: Callable[[int, int], None] | None = None):
+    """Run a design sweep (docs/sweeps.md): ``sweep`` is a SWEEP.toml path, a built-in example
+    sweep, a ``SweepSpec`` or a plan from ``plan_sweep``; one Monte-Carlo run per point, point i
+    on stream (i,) of the sweep's seed. ``out``: results directory written point by point
+    (Parquet, CSV) and resumed by a re-run (None: rows in memory only). ``scheduler``: "inline",
+    "local", an address such as "tcp://host:8786", an open ``Executor``, or None (local for more
+    than 4 points to run). ``workers``: local worker processes, or inline threads per point.
+    ``progress(done, total)``: points finished. Returns a ``SweepResult`` (``partial`` after
+    Ctrl-C)."""
+    from rvbacklash.analysis.sweep import SweepPlan, plan_sweep, run_sweep
+
+    plan = sweep if isinstance(sweep, SweepPlan) else plan_sweep(sweep)
+    return run_sweep(plan, out=out, scheduler=scheduler, workers=workers, force=force, progress=progress)
+
+
+def hysteresis(design: DesignLike, *, measured: str | Path | None = None, unit: int | None = None,
+               points: int = 41) -> HysteresisResult:
+    """The test bench's hysteresis loop (input locked, 0 -> +T_R -> 0 -> -T_R -> 0) of the nominal
+    unit, or of a unit of a measured-unit file (``measured``; ``unit``: 0-based, default the first), with its lost motion,
+    backlash and torsional rigidity (docs/elastic.md). The design needs an [elastic] table.
+    ``points``: loop nodes per branch (the definitions' torques are always nodes)."""
+    from rvbacklash.analysis.hysteresis import hysteresis as _hysteresis
+
+    return _hysteresis(prepare(design), measured=measured, unit=unit, points=points)
+
+
+def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,
+                    specs: Mapping[str, float] | None = None, probabilities: Iterable[float] = (0.05, 0.95),
+                    samples: int = 2000, seed: int = 0) -> ElasticSection:
+    """The report's elastic section: the nominal loop and the loops of the units nearest the given
+    quantiles of lost motion among ``samples`` drawn units, beside an elastic-model simulation
+    (``simulate(..., model="elastic")``) if given; render with
+    ``rvbacklash.report.elastic_plots.elastic_figures`` and the ``_elastic_section.html.j2`` partial."""
+    from rvbacklash.analysis.hysteresis import elastic_section as _elastic_section
+
+    return _elastic_section(prepare(design), simulation=simulation, specs=specs, probabilities=tuple(probabilities),
+                            samples=samples, seed=seed)
+
+
+SENSITIVITY_SAMPLES = 1 << 14  # = analysis.sensitivity_global.DEFAULT_SAMPLES
+REPORT_SENSITIVITY_SAMPLES = 1 << 11  # Sobol indices of the Monte-Carlo models in a report: N (D + 2) ~ 45 000 units
+ALLOCATION_SAMPLES = 1 << 16  # per candidate of a Monte-Carlo allocation (= analysis.allocation.DEFAULT_MC_SAMPLES)
+
+
+def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None = None,
+                samples: int = SENSITIVITY_SAMPLES, seed: int = 0, resamples: int = 1000,
+                progress: Callable[[int], None] | None = None) -> SensitivityResult:
+    """First-order and total Sobol indices of a model's output for every random factor group, with
+    95 % bootstrap intervals (docs/allocation.md). ``samples`` N: units per sample set, a power of
+    two (the model runs N (D + 2) times); each factor draws from its own stream of ``seed``."""
+    from rvbacklash.analysis.sensitivity_global import global_sensitivity
+
+    return global_sensitivity(prepare(design), model=model, output=output, samples=samples, seed=seed,
+                              resamples=resamples, progress=progress)
+
+
+def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, model: str = "linear",
+             spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
+             samples: int = ALLOCATION_SAMPLES, seed: int = 0, scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
+             progress: Callable[[int], None] | None = None) -> AllocationResult:
+    """The cheapest precision grade per part group such that P(backlash <= spec_arcmin [and
+    rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um]) >= yield_target
+    (backlash: the model's primary output, lost motion for the elastic model), with the uniform-grade baseline
+    and the cost-yield Pareto front (docs/allocation.md). Costs: the design's [costs] table over
+    the defaults. The linear model is solved exactly; the Monte-Carlo models (``samples`` per
+    candidate, seeded) search locally, their candidates run on ``scheduler`` ("inline", "local" or
+    a Dask address; ``workers``: threads inline, worker processes on a local cluster)."""
+    import contextlib
+
+    from rvbacklash.analysis.allocation import allocate as _allocate
+
+    problem = prepare(design)
+    if model == "linear" or scheduler in (None, "inline"):
+        return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
+                         spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
+                         samples=samples, seed=seed,
+                         executor=None, workers=workers, pareto=pareto, progress=progress)
+    try:
+        from rvbacklash.analysis.executor import executor
+    except ImportError:
+        raise InputError("scheduler", scheduler, "the Dask executor is not available in this installation; "
+                                                 "allowed: inline") from None
+    with contextlib.ExitStack() as stack:
+        ex = stack.enter_context(executor(scheduler, workers))
+        return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
+                         spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
+                         samples=samples, seed=seed,
+                         executor=ex, workers=None, pareto=pareto, progress=progress)

@@ -48,7 +48,7 @@ def test_schema_describes_the_design_file():
         "normal", "uniform", "truncated_normal", "rayleigh", "fixed"}
     assert schema["required"] == ["name", "first_stage", "second_stage"]
     p = run_cli("examples")
-    assert [line.split()[0] for line in p.stdout.splitlines()] == ["rv80e", "sun2014"]
+    assert {"rv80e", "sun2014"} <= {line.split()[0] for line in p.stdout.splitlines() if line.strip()}
 
 
 def test_version_and_help_show_units():
@@ -170,7 +170,7 @@ def test_contact_command(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "play ccw [arcmin]" in p.stdout and "disc" in p.stdout
     d = json.loads(out.read_text())
-    assert d["crank_angle_deg"] == 3 and [x["disc"] for x in d["discs"]] == [1, 2]
+    assert d["crank_angle_deg"] == pytest.approx(3) and [x["disc"] for x in d["discs"]] == [1, 2]
     assert d["cycloid_stage_preloaded"] is False and d["cycloid_stage_arcmin"] > 0
     assert (tmp_path / "c.svg").read_text().count("<svg") == 1
 

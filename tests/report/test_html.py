@@ -127,3 +127,29 @@ def test_bad_input_leaves_nothing_behind(case, tmp_path, sun2014_toml):
     p = run_cli("report", design, "-o", target, *extra)
     one_line_error(p)
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == before  # no partial or temporary file
+
+
+def test_report_with_allocation_and_sobol_chart():
+    """`report --allocate`: the recommendation, the Pareto front and the Sobol chart (issue 12);
+    the page's marked numbers are the JSON's."""
+    import rvbacklash as rb
+
+    data = rb.make_report("rv80e", samples=20000, seed=1, spec_arcmin=3.0, allocate=True, yield_target=0.99)
+    html = rb.render_html(data)
+    for needle in ('id="fig-sobol"', 'id="allocation-table"', 'id="sobol-table"', 'data-key="allocation.cost"'):
+        assert needle in html, needle
+    d = data.to_dict()
+    assert d["allocation"]["cost"] == data.key_numbers()["allocation.cost"] < d["allocation"]["baseline"]["cost"]
+    assert d["allocation"]["yield"]["fraction"] >= 0.99 and d["sensitivity"]["model"] == "linear"
+
+
+def test_report_of_the_elastic_model_has_the_test_bench_section():
+    import rvbacklash as rb
+
+    data = rb.make_report("rv80e", samples=8000, seed=1, model="elastic", spec_arcmin=1.0,
+                          specs={"rigidity": 1000.0})
+    html = rb.render_html(data)
+    assert 'id="elastic"' in html and "hysteresis" in html.lower()
+    keys = data.key_numbers()
+    assert keys["elastic.nominal.lost_motion_arcmin"] == data.elastic.nominal.lost_motion_arcmin > 0
+    assert data.simulation.joint_yield is not None

@@ -27,10 +27,15 @@ class ReportData(Result):
     contact: NominalContact | None
     warnings: tuple[str, ...]
     created_utc: str
+    sensitivity: object | None = None  # analysis.sensitivity_global.SensitivityResult
+    allocation: object | None = None  # analysis.allocation.AllocationResult
+    elastic: object | None = None  # analysis.hysteresis.ElasticSection
+    sweep: object | None = None  # the sweep section (analysis.sweep), when the report shows one
 
     @property
     def partial(self) -> bool:
-        return self.simulation.partial or (self.comparison is not None and self.comparison.partial)
+        return self.simulation.partial or any(getattr(x, "partial", False) for x in (self.comparison, self.sensitivity,
+                                                                                       self.allocation))
 
     def key_numbers(self) -> dict:
         """The numbers the page marks, by the JSON path they have in ``to_dict``."""
@@ -45,6 +50,13 @@ class ReportData(Result):
         }
         if s.yield_ is not None:
             out["simulation.yield"] = s.yield_.fraction
+        if self.allocation is not None:
+            out["allocation.cost"] = self.allocation.cost
+        if self.elastic is not None:
+            n = self.elastic.nominal
+            out.update({"elastic.nominal.lost_motion_arcmin": n.lost_motion_arcmin,
+                        "elastic.nominal.backlash_arcmin": n.backlash_arcmin,
+                        "elastic.nominal.torsional_rigidity_nm_per_arcmin": n.torsional_rigidity_nm_per_arcmin})
         return out
 
     def metadata(self) -> dict:
@@ -56,10 +68,14 @@ class ReportData(Result):
                 "standards": standards_used(self.stackup), "created_utc": self.created_utc}
 
     def to_dict(self) -> dict:
+        def d(x):
+            return x.to_dict() if x is not None else None
+
         return {"metadata": self.metadata(), "warnings": list(self.warnings), "key_numbers": self.key_numbers(),
                 "analysis": self.stackup.to_dict(), "simulation": self.simulation.to_dict(),
-                "comparison": self.comparison.to_dict() if self.comparison is not None else None,
-                "contact_nominal": self.contact.to_dict() if self.contact is not None else None}
+                "comparison": d(self.comparison), "contact_nominal": d(self.contact),
+                "sensitivity": d(self.sensitivity), "allocation": d(self.allocation), "elastic": d(self.elastic),
+                "sweep": d(self.sweep)}
 
     def rows(self) -> list[dict]:
         return [{"key": k, "value": v} for k, v in self.key_numbers().items()]
@@ -113,7 +129,9 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
 
 def build_report_data(problem: Problem, stackup: StackupResult, simulation: SimulationResult,
                       spec_arcmin: float | None, comparison: Comparison | None = None,
-                      contact: NominalContact | None = None) -> ReportData:
+                      contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
+                      sweep=None) -> ReportData:
     return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact,
                       validity_warnings(problem, stackup, simulation),
-                      _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"))
+                      _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
+                      elastic, sweep)

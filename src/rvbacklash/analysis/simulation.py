@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping
 
 import numpy as np
@@ -21,7 +21,7 @@ from rvbacklash.analysis.exact import ExactDistribution, exact_distribution
 from rvbacklash.analysis.statistics import OutputStatistics, Proportion, Quantile, Quantiles
 from rvbacklash.errors import InputError
 from rvbacklash.problem import Problem
-from rvbacklash.results import Result
+from rvbacklash.results import EXPORT, Result
 from rvbacklash.sampling.engine import MAX_SAMPLES, METHODS, BlockSource, RawRun, linear_source, run_blocks
 from rvbacklash.sampling.inputs import build_input_transform
 
@@ -36,21 +36,30 @@ def default_workers() -> int:
 
 # --- models ----------------------------------------------------------------------------------
 
-def _linear(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = ()) -> BlockSource:
+def _linear(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (), save_units: int = 0) -> BlockSource:
     from rvbacklash.models.linear import linear_model
 
+    if save_units:
+        raise InputError("save_units", save_units, "allowed with the contact and elastic models (per-unit errors); "
+                                                   "the linear model has no units to save")
     return linear_source(method, seed, build_input_transform(problem), linear_model(problem),
                          problem.sensitivities_arcmin_per_um, stream)
 
 
-def _contact(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = ()) -> BlockSource:
+def _contact(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (), save_units: int = 0) -> BlockSource:
     from rvbacklash.sampling.contact_source import contact_source
 
-    return contact_source(problem, method, seed, stream)
+    return contact_source(problem, method, seed, stream, save_units=save_units)
 
 
-# name -> factory(problem, method, seed, stream) of the model's block source
-MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact}
+def _elastic(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (), save_units: int = 0) -> BlockSource:
+    from rvbacklash.sampling.elastic_source import elastic_source
+
+    return elastic_source(problem, method, seed, stream, save_units=save_units)
+
+
+# name -> factory(problem, method, seed, stream, save_units=0) of the model's block source
+MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact, "elastic": _elastic}
 
 
 # --- results ---------------------------------------------------------------------------------
@@ -111,10 +120,13 @@ class SimulationResult(Result):
     elapsed_s: float
     outputs: dict[str, OutputStatistics]
     joint_yield: Proportion | None  # P(every given spec met at once), for more than one spec
-    preload_fraction: float | None  # units whose cycloid stage is preloaded (contact model)
+    preload_fraction: float | None  # units whose cycloid stage is preloaded (contact and elastic models)
     linear_reference: LinearReference
     convergence: tuple[ConvergencePoint, ...]
     exact_curve: Curve | None
+    # the first units of the run with their errors (save_units): (Realization, linear stages
+    # [arcmin], cycloid stage [arcmin] or -preload [um]); not part of to_dict()
+    units: tuple = field(default=(), metadata={EXPORT: False})
 
     @property
     def output(self) -> OutputStatistics:
@@ -207,7 +219,7 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: tuple[float, ...] = (), workers: int | None = None, chunk_blocks: int = 4,
              model: str | Callable = "linear", progress: Callable[[int], None] | None = None,
-             stream: tuple[int, ...] = ()) -> SimulationResult:
+             stream: tuple[int, ...] = (), error_model: str | None = None, save_units: int = 0) -> SimulationResult:
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
@@ -217,12 +229,24 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     primary output; ``specs`` gives limits of other outputs by name. Every method is seeded;
     seed 0 is a valid seed; ``stream`` (a tuple of integers >= 0) selects an independent stream of
     the same seed: block b draws from ``SeedSequence(seed, spawn_key=(*stream, b))``. Ctrl-C
-    returns the finished blocks with ``partial=True``.
+    returns the finished blocks with ``partial=True``. ``error_model`` ("long_wave" |
+    "independent") overrides the design's ``[contact]`` reading of the per-element errors;
+    ``save_units`` keeps the first units with their errors (``result.units``).
     """
+    from rvbacklash.sampling.engine import BLOCK_SIZE
+
+    if error_model is not None:
+        if error_model not in ("long_wave", "independent"):
+            raise InputError("error_model", error_model, "allowed: long_wave, independent")
+        problem = replace(problem, contact_errors=replace(problem.contact_errors, error_model=error_model))
+
     if not isinstance(stream, tuple) or any(isinstance(x, bool) or not isinstance(x, (int, np.integer)) or x < 0
                                             for x in stream):
         raise InputError("stream", stream, "allowed: a tuple of integers >= 0")
     check_run_parameters(samples, seed, method, spec_arcmin, quantiles, workers)
+    if isinstance(save_units, bool) or not isinstance(save_units, (int, np.integer)) or \
+            not 0 <= save_units <= min(samples if method != "exact" else 0, BLOCK_SIZE):
+        raise InputError("save_units", save_units, f"allowed: 0 <= save_units <= min(samples, {BLOCK_SIZE})")
     qs = _quantile_set(quantiles)
     if isinstance(model, str) and model not in MODELS:
         raise InputError("model", model, f"allowed: {', '.join(MODELS)}, or a callable (n, 21) -> (n,)")
@@ -231,7 +255,7 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
             raise InputError("method", "exact", "allowed with model linear only (the exact distribution of Eq. (2))")
         return exact_result(problem, spec_arcmin=spec_arcmin, quantiles=qs)
     if isinstance(model, str):
-        source = MODELS[model](problem, method, int(seed), tuple(int(x) for x in stream))
+        source = MODELS[model](problem, method, int(seed), tuple(int(x) for x in stream), save_units=int(save_units))
         model_name = model
     else:
         source = linear_source(method, int(seed), build_input_transform(problem), model, None, tuple(stream))
@@ -254,8 +278,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
                    for o, lim in zip(raw.outputs, limits)}
     n_specs = sum(math.isfinite(x) for x in limits)
     joint = Proportion.sampled(raw.n_joint_pass, raw.samples) if n_specs > 1 and raw.samples else None
-    free = outputs.get("backlash_free")
-    preload = 1.0 - free.samples / raw.samples if free is not None and raw.samples else None
+    preloaded = outputs.get("preload")  # conditional: its samples are the preloaded units
+    preload = preloaded.samples / raw.samples if preloaded is not None and raw.samples else None
     curve = None
     if primary.unit == "arcmin":  # the linear model's exact distribution, drawn beside any sampled model
         try:
@@ -266,7 +290,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     return SimulationResult(problem.name, model_name, method, int(seed), tuple(int(x) for x in stream), int(samples),
                             raw.samples, raw.partial,
                             raw.elapsed_s, outputs, joint, preload, linear_reference(problem),
-                            tuple(raw.convergence), curve)
+                            tuple(raw.convergence), curve,
+                            tuple(source.saved_units()) if save_units else ())
 
 
 def _limits(source: BlockSource, spec_arcmin: float | None, specs: Mapping[str, float] | None) -> tuple[float, ...]:

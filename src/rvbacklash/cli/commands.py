@@ -9,8 +9,9 @@ from typing import Optional
 import typer
 
 from rvbacklash.cli.app import app
-from rvbacklash.cli.common import (CONTACT_NOTE, DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, METHOD_OPTION,
-                                   MODEL_OPTION, PLOT_OPTION, QUIET_OPTION, SAMPLES_OPTION, SEED_OPTION, SPEC_OPTION,
+from rvbacklash.cli.common import (CONTACT_NOTE, DESIGN_HELP, ERROR_MODEL_OPTION, FORCE_OPTION, FORMAT_OPTION, METHOD_OPTION,
+                                   MODEL_OPTION, PLOT_OPTION, QUIET_OPTION, SAMPLES_OPTION, SEED_OPTION,
+                                   SPEC_LOST_MOTION_OPTION, SPEC_OPTION, SPEC_PRELOAD_OPTION, SPEC_RIGIDITY_OPTION,
                                    WORKERS_OPTION, Format, Outputs, command, csv_option, json_option, parse_samples,
                                    progress_bar, stdout_console, workers_or_none)
 from rvbacklash.errors import InputError
@@ -50,6 +51,13 @@ def simulate(
     model: str = MODEL_OPTION,
     quantile: list[float] = typer.Option([], "--quantile", help="Extra quantile to report (0 < p < 1); repeatable."),
     workers: int = WORKERS_OPTION,
+    error_model: Optional[str] = ERROR_MODEL_OPTION,
+    save_units: Optional[tuple[int, Path]] = typer.Option(
+        None, "--save-units", help="Write the first N units with their errors to FILE (TOML, the measured-unit "
+                                   "format; contact/elastic models).", metavar="N FILE"),
+    spec_lost_motion_arcmin: Optional[float] = SPEC_LOST_MOTION_OPTION,
+    spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
+    spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,
     json_out: Optional[Path] = json_option(),
     csv_out: Optional[Path] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
@@ -63,18 +71,53 @@ def simulate(
 
     n = parse_samples(samples) if method != "exact" else None
     threads = workers_or_none(workers)
-    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out)
+    specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
+                         spec_preload_um)
+    n_save, save_path = save_units if save_units is not None else (0, None)
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, save_units=save_path)
     problem = api.prepare(design)
-    with progress_bar(n, note=CONTACT_NOTE if model == "contact" else None) as progress:
+    with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         result = api.simulate(problem, samples=n if n is not None else 1, seed=seed, method=method,
                               spec_arcmin=spec_arcmin, quantiles=quantile, workers=threads, model=model,
-                              progress=progress)
+                              progress=progress, error_model=error_model, save_units=n_save, specs=specs)
     data, rows = result.to_dict(), result.rows()
-    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows)},
+
+    def units_toml() -> str:
+        from rvbacklash.design.measured import units_to_toml
+
+        return units_to_toml(api.measured_units(problem, result),
+                             f"{len(result.units)} units of `rvbacklash simulate {design} --model {model} --seed {seed}`"
+                             f"\n(design {problem.name}); re-run one: rvbacklash contact {design} --measured FILE "
+                             f"--unit K")
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows), "--save-units": units_toml},
                lambda: tables.print_simulation(result, stdout_console()), data, rows)
     if result.partial:
         raise typer.Exit(130)
 
+
+
+def output_specs(model: str, spec_arcmin: Optional[float], lost_motion: Optional[float], rigidity: Optional[float],
+                 preload: Optional[float] = None) -> dict[str, float]:
+    """The specs beside --spec-arcmin, by output name ({"lost_motion": X, "rigidity": K,
+    "preload": P}); each flag checked against the model that has the output."""
+    import math
+
+    specs = {}
+    for name, key, value, models in (("spec_lost_motion_arcmin", "lost_motion", lost_motion, ("elastic",)),
+                                     ("spec_rigidity_nm_per_arcmin", "rigidity", rigidity, ("elastic",)),
+                                     ("spec_preload_um", "preload", preload, ("contact", "elastic"))):
+        if value is None:
+            continue
+        if model not in models:
+            raise InputError(name, value, f"allowed with --model {' or '.join(models)} only")
+        if not (math.isfinite(value) and (value >= 0 if key == "preload" else value > 0)):
+            raise InputError(name, value, "allowed: a finite number >= 0" if key == "preload" else
+                             "allowed: a finite number > 0")
+        specs[key] = value
+    if lost_motion is not None and spec_arcmin is not None:
+        raise InputError("spec_lost_motion_arcmin", lost_motion, "allowed: --spec-arcmin or --spec-lost-motion-arcmin, "
+                                                                 "not both (both set the lost motion's spec)")
+    return specs
 
 def parse_scenario(text: str):
     """'NAME:key=value,key=value' -> Scenario. Keys: involute, cycloid, crank, all, edition, or a
@@ -168,6 +211,17 @@ def report(
     model: str = MODEL_OPTION,
     scenario: list[str] = SCENARIO_OPTION,
     paper: bool = PAPER_OPTION,
+    spec_lost_motion_arcmin: Optional[float] = SPEC_LOST_MOTION_OPTION,
+    spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
+    spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,
+    sensitivity: bool = typer.Option(False, "--sensitivity", help="Add the Sobol indices of the model (What to "
+                                                                  "tighten; minutes for the contact/elastic models)."),
+    allocate: bool = typer.Option(False, "--allocate", help="Add the cheapest grades that meet --spec-arcmin at "
+                                                            "--yield, their Pareto front and the Sobol indices."),
+    yield_target: Optional[float] = typer.Option(None, "--yield", help="Target yield of --allocate: the share of "
+                                                                       "units that must meet the spec, 0.5 < P < 1."),
+    sweep: Optional[Path] = typer.Option(None, "--sweep", help="Add a finished sweep's results (the --out DIR of "
+                                                               "`rvbacklash sweep`).", metavar="DIR"),
     workers: int = WORKERS_OPTION,
     json_out: Optional[Path] = json_option("every number of the report"),
     csv_out: Optional[Path] = csv_option("the key numbers"),
@@ -176,7 +230,8 @@ def report(
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
 ) -> None:
-    """One self-contained HTML report: design, factors, stack-up, charts, Monte-Carlo, scenarios."""
+    """One self-contained HTML report: design, factors, stack-up, charts, Monte-Carlo, scenarios
+    (and the test-bench loop, the Sobol indices, the tolerance allocation, a sweep, when asked)."""
     import rvbacklash.api as api
     from rvbacklash.report.files import render_csv, render_json
     from rvbacklash.report.html import render_html
@@ -184,51 +239,79 @@ def report(
     n = parse_samples(samples) if method != "exact" else None
     chosen = [parse_scenario(text) for text in scenario]
     threads = workers_or_none(workers)
+    specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
+                         spec_preload_um)
+    if allocate and yield_target is None:
+        raise InputError("--yield", None, "allowed: a target yield 0 < P < 1; --allocate needs it")
+    if yield_target is not None and not allocate:
+        raise InputError("--yield", yield_target, "allowed with --allocate only")
     out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)
     problem = api.prepare(design)
-    with progress_bar(n, note=CONTACT_NOTE if model == "contact" else None) as progress:
+    with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         data = api.make_report(problem, samples=n if n is not None else 1, seed=seed, method=method,
-                          spec_arcmin=spec_arcmin, scenarios=chosen, paper=paper, model=model, workers=threads,
-                          progress=progress)
+                               spec_arcmin=spec_arcmin, specs=specs or None, scenarios=chosen, paper=paper, model=model,
+                               workers=threads, sensitivity=sensitivity, allocate=allocate, yield_target=yield_target,
+                               spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
+                               spec_preload_um=spec_preload_um, sweep_dir=sweep,
+                               progress=progress)
     summary = {"report": str(output.resolve()), **data.metadata(), "key_numbers": data.key_numbers()}
     rows = data.rows()
     out.finish({"--output": lambda: render_html(data), "--json": lambda: render_json(data.to_dict()),
                 "--csv": lambda: render_csv(rows)},
-               lambda: stdout_console().print(f"report written to {output.resolve()}"
-                                              + (" [bold red](PARTIAL: interrupted)[/]" if data.partial else "")),
-               summary, rows)
+               lambda: _print_key_numbers(summary["key_numbers"], data.partial), summary, rows)
     if data.partial:
         raise typer.Exit(130)
+
+
+def _print_key_numbers(numbers: dict, partial: bool) -> None:
+    """The report's key numbers, one per line (the files written follow)."""
+    console = stdout_console()
+    if partial:
+        console.print("[bold red]PARTIAL: interrupted; the report shows what was finished[/]")
+    width = max(map(len, numbers), default=0)
+    for name, value in numbers.items():
+        console.print(f"{name:<{width}}  {value:.6g}" if isinstance(value, float) else f"{name:<{width}}  {value}",
+                      highlight=False, markup=False)
 
 
 @app.command()
 @command
 def contact(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    crank_angle_deg: float = typer.Option(0.0, "--crank-angle-deg", help="Crank angle of the measurement [deg], "
-                                                                         "-360 to 360."),
+    crank_angle_deg: Optional[float] = typer.Option(None, "--crank-angle-deg", help="Crank angle of the measurement "
+                                                    "[deg], -360 to 360; default: the unit's own, else 0."),
+    measured: Optional[Path] = typer.Option(None, "--measured", help="A TOML file of measured units (docs/contact.md); "
+                                            "default: the nominal design.", metavar="UNIT.toml"),
+    unit: Optional[int] = typer.Option(None, "--unit", help="The unit of --measured to run (0-based); default: all."),
     json_out: Optional[Path] = json_option(),
     csv_out: Optional[Path] = csv_option("the per-disc table"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of the disc, the pins and the first "
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of disc 1, the pins and the first "
                                                              "contacts to FILE.", metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
 ) -> None:
-    """Play of the nominal design from the exact cycloid-pin geometry: per disc and direction,
-    the first-contact pins, and the output lost motion [arcmin]."""
+    """Play of one unit from the exact cycloid-pin geometry: the nominal design or measured units;
+    per disc and direction the first-contact pins, the preload, the output lost motion [arcmin]."""
     import rvbacklash.api as api
     from rvbacklash.report import tables
     from rvbacklash.report.files import render_csv, render_json
     from rvbacklash.report.plots import contact_svg
 
-    api.check_crank_angle(crank_angle_deg)
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
-    result = api.contact(design, crank_angle_deg=crank_angle_deg)
-    data, rows = result.to_dict(), result.rows()
+    result = api.contact(design, crank_angle_deg=crank_angle_deg, measured=measured, unit=unit)
+    results = result if isinstance(result, list) else [result]
+    if len(results) == 1:
+        data, rows = results[0].to_dict(), results[0].rows()
+    else:
+        data = {"design": results[0].design_name, "units": [r.to_dict() for r in results]}
+        rows = [{"index": k, **{key: v for key, v in r.to_dict().items() if not isinstance(v, (dict, list))}}
+                for k, r in enumerate(results)]
+    if plot is not None and len(results) > 1:
+        raise InputError("--plot", str(plot), "allowed with one unit: pick it with --unit")
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
-                "--plot": lambda: contact_svg(result)},
-               lambda: tables.print_contact(result, stdout_console()), data, rows)
+                "--plot": lambda: contact_svg(results[0])},
+               lambda: [tables.print_contact(r, stdout_console()) for r in results], data, rows)
 
 
 tolerance_app = typer.Typer(help="Tolerances from precision grades (ISO 1328-1, ISO 286).", no_args_is_help=True,
@@ -317,11 +400,14 @@ def schema() -> None:
 @app.command()
 @command
 def examples(name: Optional[str] = typer.Argument(None, help="Print this example's TOML.")) -> None:
-    """List the built-in example designs, or print one to start a design from."""
+    """List the built-in example designs and sweeps, or print one to start from."""
     from rvbacklash.design.loading import available_examples, example_text, load_design
+    from rvbacklash.design.sweep_spec import available_sweeps, sweep_description, sweep_example_text
 
     if name is None:
         for n in available_examples():
             sys.stdout.write(f"{n:10s} {load_design(n).description}\n")
+        for n in available_sweeps():
+            sys.stdout.write(f"{n:10s} sweep: {sweep_description(n)}\n")
         return
-    sys.stdout.write(example_text(name))
+    sys.stdout.write(sweep_example_text(name) if name in available_sweeps() else example_text(name))

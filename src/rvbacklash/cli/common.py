@@ -21,9 +21,15 @@ DESIGN_HELP = "TOML design file, or a built-in example name (see `rvbacklash exa
 FLAGS = {
     "samples": "--samples", "seed": "--seed", "method": "--method", "model": "--model",
     "spec_arcmin": "--spec-arcmin", "quantiles": "--quantile", "workers": "--workers",
-    "crank_angle_deg": "--crank-angle-deg", "scenarios": "--scenario", "paper": "--paper",
+    "crank_angle_deg": "--crank-angle-deg", "scenarios": "--scenario", "paper": "--paper", "measured": "--measured",
+    "unit": "--unit", "error_model": "--error-model", "save_units": "--save-units",
     "module_mm": "--module", "diameter_mm": "--diameter", "width_mm": "--width", "grade": "--grade",
     "edition": "--edition", "size_mm": "--size", "fit": "--fit",
+    "yield_target": "--yield", "output": "--output",
+    "spec_lost_motion_arcmin": "--spec-lost-motion-arcmin", "spec_rigidity_nm_per_arcmin": "--spec-rigidity-nm-per-arcmin",
+    "spec_preload_um": "--spec-preload-um",
+    "points": "--points",
+    "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 
 
@@ -53,10 +59,22 @@ FORCE_OPTION = typer.Option(False, "--force", help="Replace existing output file
 QUIET_OPTION = typer.Option(False, "--quiet", "-q", help="Print nothing on standard output (files are still written).")
 SAMPLES_OPTION = typer.Option("1000000", "--samples", "-n", help="Number of Monte-Carlo samples (e.g. 1e6).")
 SEED_OPTION = typer.Option(0, "--seed", help="Seed (an integer >= 0; 0 is valid): same seed, same numbers.")
-SPEC_OPTION = typer.Option(None, "--spec-arcmin", help="Spec of the output backlash (upper limit) [arcmin].")
+SPEC_OPTION = typer.Option(None, "--spec-arcmin", help="Spec (upper limit) of the model's primary output: "
+                           "backlash; lost motion for the elastic model [arcmin].")
+SPEC_LOST_MOTION_OPTION = typer.Option(None, "--spec-lost-motion-arcmin",
+                                       help="Spec of the lost motion (upper limit) [arcmin]; --model elastic.")
+SPEC_RIGIDITY_OPTION = typer.Option(None, "--spec-rigidity-nm-per-arcmin",
+                                    help="Spec of the torsional rigidity (lower limit) [N m/arcmin]; --model elastic.")
+SPEC_PRELOAD_OPTION = typer.Option(None, "--spec-preload-um",
+                                   help="Spec of the cycloid stage's preload (upper limit; a unit with a free stage "
+                                        "meets it) [um]; --model contact or elastic.")
 METHOD_OPTION = typer.Option("default", "--method", help="default | box-muller | sobol | exact (linear model only).")
-MODEL_OPTION = typer.Option("linear", "--model", help="linear (Eq. (2)) | contact (exact cycloid-pin contact, per-pin "
-                                                      "errors; docs/contact.md).")
+MODEL_OPTION = typer.Option("linear", "--model", help="linear (Eq. (2)) | contact (exact cycloid-pin contact, per-part "
+                                                      "errors; docs/contact.md) | elastic (the test bench's hysteresis "
+                                                      "loop: lost motion, backlash, rigidity; docs/elastic.md).")
+ERROR_MODEL_OPTION = typer.Option(None, "--error-model", help="contact/elastic models: long_wave (harmonics plus "
+                                  "a per-element part, the default) | independent (every element on its own, the "
+                                  "pessimistic bound); default: the design's [contact] error_model.")
 WORKERS_OPTION = typer.Option(0, "--workers", help="Worker threads (0 = all cores); results do not depend on it.")
 PLOT_OPTION = typer.Option(None, "--plot", help="Write the figure as SVG to FILE.", metavar="FILE")
 

@@ -10,7 +10,12 @@ try:  # typer >= 0.2x vendors click
 except ImportError:  # pragma: no cover - older typer with click as a dependency
     from click import exceptions as click_exceptions
 
+import typer
+
 import rvbacklash.cli.commands  # noqa: F401  (registers the commands on the app)
+import rvbacklash.cli.allocation  # noqa: F401  (sensitivity, allocate)
+import rvbacklash.cli.hysteresis  # noqa: F401  (hysteresis)
+import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 from rvbacklash.cli.app import app
 
 
@@ -57,7 +62,7 @@ def main(argv: list[str] | None = None) -> None:
     except click_exceptions.ClickException as e:
         sys.stderr.write(click_error_line(e, args) + "\n")
         code = 2
-    except click_exceptions.Abort:
+    except typer.Abort:
         sys.stderr.write("interrupted\n")
         code = 130
     except KeyboardInterrupt:

@@ -12,6 +12,8 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
+from rvbacklash.design.costs import Costs
+from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.factors import distributions
 from rvbacklash.factors.catalog import CATALOG
 from rvbacklash.geometry import reducer as geometry
@@ -246,6 +248,21 @@ class Grades(_Strict):
         return (g, f"grades.{stage}") if g is not None else None
 
 
+class ContactErrors(_Strict):
+    """How the contact model reads the per-element errors of the cycloid stage (docs/contact.md)."""
+
+    error_model: Literal["long_wave", "independent"] = Field(
+        "long_wave", description="long_wave: each part's deviations are first and second harmonics (random "
+                                 "amplitude and phase) plus a per-element part, conforming to its grade; "
+                                 "independent: every element drawn on its own from the zone (the pessimistic bound)")
+    disc_single_pitch_um: float | None = Field(
+        None, gt=0, le=1000, description="single pitch tolerance f_pt of the disc teeth [um]; default: from the "
+                                         "cycloid grade (ISO 1328-1, equivalent gear), else 0.3 F_p")
+    pin_hole_single_pitch_um: float | None = Field(
+        None, gt=0, le=1000, description="single pitch tolerance f_pt of the housing's pin holes [um]; default: from "
+                                         "the cycloid grade (ISO 1328-1 at the pin circle), else 0.3 F_p")
+
+
 class Design(_Strict):
     """A complete RV reducer design: geometry of the three stages and 21 tolerance zones."""
 
@@ -258,6 +275,9 @@ class Design(_Strict):
     factors: Factors = Factors()  # type: ignore[valid-type]
     grades: Grades | None = None
     correlation: Correlation | None = None
+    costs: Costs | None = None  # cost model of `allocate` (design/costs.py); None: the defaults
+    contact: ContactErrors = ContactErrors()
+    elastic: ElasticInputs | None = None  # test-bench hysteresis model (design/elastic.py, docs/elastic.md)
 
     @model_validator(mode="after")
     def _every_factor_has_a_zone(self) -> "Design":

@@ -23,15 +23,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import numba as nb
+from rvbacklash._numba import nb
 import numpy as np
 from scipy import optimize
 
 from rvbacklash.geometry.cycloid import ContactGeometry, PinCentreCurve, rotate
 from rvbacklash.units import ARCMIN_PER_RAD
 
-MIN_LEVER = 0.1  # pins whose lever arm is below 10 % of a z_c cannot stop a rotation (tooth tip/root)
 PRELOAD_TOL_UM = 1e-6  # interference below a picometre is contact, not preload (round-off of the geometry)
+PRELOAD_STEP_UM = 1e-6  # the preload's max-min search stops when the two lowest gaps agree to a picometre
 
 
 @dataclass
@@ -80,23 +80,18 @@ class DiscPlay:
 class MeshPlay:
     """Play of the cycloid stage. The cranks tie the discs: the output turns until the first
     contact of either disc. ``preload_um`` > 0: no rotation frees every pin; it is the smallest
-    uniform clearance (normal to the profile, like an equidistance modification) that would."""
+    uniform clearance (normal to the profile, like an equidistance modification) that would.
+    ``discs`` holds each disc's own play where it was resolved (exact play)."""
 
     discs: tuple[DiscPlay, ...]
-    preload_um: float = 0.0
-    pitch_radius_um: float = 1.0  # a z_c, to express a preload as a (negative) play
+    preload_um: float
+    pitch_radius_um: float  # a z_c, to express a preload as a (negative) play
+    play_ccw_rad: float  # free rotation of the stage from the assembled position (NaN if preloaded)
+    play_cw_rad: float
 
     @property
     def preloaded(self) -> bool:
         return self.preload_um > 0.0
-
-    @property
-    def play_ccw_rad(self) -> float:
-        return min(d.play_ccw_rad for d in self.discs)
-
-    @property
-    def play_cw_rad(self) -> float:
-        return min(d.play_cw_rad for d in self.discs)
 
     @property
     def total_rad(self) -> float:
@@ -119,90 +114,407 @@ class MeshPlay:
         return self.lost_motion_rad * ARCMIN_PER_RAD
 
 
-# --- linearised play (also the Monte-Carlo kernel) ---------------------------------------------
+# --- the Monte-Carlo kernel: osculating circles and an exact refinement ------------------------
 
-N_COEF = 6  # per pin: radial, tangential, eccentric-direction and lever coefficients, 1/L, tooth space
+# Columns of the table of one pin at one crank angle (mesh_table): the tooth space facing it, its
+# parameter on the pin-centre curve C, and C's osculating circle at the pin (centre, radius, on
+# which side), the direction in which a moving-distance modification shifts C there.
+TOOTH, T0, OX, OY, RHO, SIDE, EUX, EUY, CPSI, SPSI, CCHI, SCHI, CANG, SANG = range(14)
+N_COEF = 14  # the last six: cos and sin of the pin's angle, of the disc's crank angle and of chi_d / z_c
+RHO_MAX_MM = 1e3  # near an inflection of C its osculating circle is a line: 1 m is straight enough
+# Pins whose estimated contact rotation is within a band of the first are checked on the exact curve:
+# the osculating circle's error is third order in the displacement over its radius, so a pin on a
+# tightly bent stretch of C (radius below RHO_TIGHT_MM, near the tooth tips) gets the wide band.
+BAND_WIDE, BAND_NARROW, RHO_TIGHT_MM = 0.10, 0.005, 3.0
+
+
+def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
+    """The osculating circle of the nominal pin-centre curve C at every pin of every disc, at the
+    crank angles ``chis`` [rad]: shape (len(chis), discs, z_p, N_COEF), disc frame [mm].
+
+    A nominal pin centre lies on C at parameter T0 = chi_d - psi_j + 2 pi j. There C has the
+    centre of curvature (OX, OY) and radius RHO = |C'|^3 / |C' x C''| (do Carmo, Differential
+    Geometry of Curves and Surfaces, 1.5); SIDE = +1 where the centre lies on the disc's side
+    (the gap of a point is |q - O| - RHO), -1 where it lies outside (RHO - |q - O|). A moving
+    distance dr_p shifts C by dr_p (cos(t/z_c), sin(t/z_c)) = dr_p (EUX, EUY).
+    """
+    chis = np.atleast_1d(np.asarray(chis, float))
+    j = np.arange(g.zp)
+    chi_d = chis[:, None] + 2 * math.pi * np.arange(g.discs)[None, :] / g.discs  # (n, discs)
+    t = chi_d[:, :, None] - g.pin_angles[None, None, :] + 2 * math.pi * j[None, None, :]
+    curve = PinCentreCurve(g.a_mm, g.rp_mm, g.zc)
+    p, d1 = curve.point(t), curve.d1(t)
+    d2 = _curve_d2_exact(g.a_mm, g.rp_mm, g.zc, t)
+    cross = d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]
+    speed = np.linalg.norm(d1, axis=-1)
+    rho = np.minimum(speed ** 3 / np.maximum(np.abs(cross), 1e-300), RHO_MAX_MM)
+    left = np.stack([-d1[..., 1], d1[..., 0]], axis=-1) / speed[..., None]
+    to_centre = np.where((cross >= 0)[..., None], left, -left)
+    centre = p + rho[..., None] * to_centre
+    outward = curve.outward_normal(t)
+    out = np.empty(t.shape + (N_COEF,))
+    out[..., TOOTH] = np.floor(j[None, None, :] * g.zc / g.zp + chi_d[:, :, None] / (2 * math.pi) + 0.5) % g.zc
+    out[..., T0] = t
+    out[..., OX], out[..., OY] = centre[..., 0], centre[..., 1]
+    out[..., RHO] = rho
+    out[..., SIDE] = np.where(np.sum(to_centre * outward, axis=-1) < 0, 1.0, -1.0)
+    out[..., EUX], out[..., EUY] = np.cos(t / g.zc), np.sin(t / g.zc)
+    out[..., CPSI], out[..., SPSI] = np.cos(g.pin_angles), np.sin(g.pin_angles)
+    out[..., CCHI], out[..., SCHI] = np.cos(chi_d)[:, :, None], np.sin(chi_d)[:, :, None]
+    out[..., CANG], out[..., SANG] = np.cos(chi_d / g.zc)[:, :, None], np.sin(chi_d / g.zc)[:, :, None]
+    return out
+
+
+def _curve_d2_exact(a: float, rg: float, zc: int, t: np.ndarray) -> np.ndarray:
+    """d2C/dt2 [mm/rad^2] in closed form (curve_point's, vectorised)."""
+    k = 1.0 / zc
+    bx, by = rg - a * np.cos(t), -a * np.sin(t)
+    dbx, dby = a * np.sin(t), -a * np.cos(t)
+    qx = a * np.cos(t) - 2 * k * dby - k * k * bx
+    qy = a * np.sin(t) + 2 * k * dbx - k * k * by
+    u = t * k
+    return np.stack([np.cos(u) * qx - np.sin(u) * qy, np.sin(u) * qx + np.cos(u) * qy], axis=-1)
 
 
 @nb.njit(nogil=True, cache=True)
-def mesh_coefficients(chi_d, k1, azc_um, zc, cos_psi, sin_psi, min_lever, coef, pins):
-    """Linearisation coefficients of the pins that can stop disc rotation at crank angle chi_d.
+def curve_point(a, rg, zc, t):
+    """C(t) of geometry.cycloid.PinCentreCurve and its first and second derivatives [mm]."""
+    ct, st = math.cos(t), math.sin(t)
+    u = t / zc
+    cu, su = math.cos(u), math.sin(u)
+    bx, by = rg - a * ct, -a * st  # base point before the rotation by t / z_c
+    dbx, dby = a * st, -a * ct
+    ddbx, ddby = a * ct, a * st
+    k = 1.0 / zc
+    x, y = cu * bx - su * by, su * bx + cu * by
+    # d/dt [R(u) b] = R(u) b' + k R(u) J b ;  d2/dt2 = R(u) b'' + 2k R(u) J b' - k^2 R(u) b
+    px, py = dbx - k * by, dby + k * bx
+    qx, qy = ddbx - 2 * k * dby - k * k * bx, ddby + 2 * k * dbx - k * k * by
+    return x, y, cu * px - su * py, su * px + cu * py, cu * qx - su * qy, su * qx + cu * qy
 
-    For the pin at phase phi = psi_j - chi_d, S = 1 + K1^2 - 2 K1 cos phi (docs/contact.md):
-    rn = (1 - K1 cos phi)/sqrt(S), tn = K1 sin phi/sqrt(S), en = (cos phi - K1)/sqrt(S),
-    lrel = sin phi/sqrt(S) = L_j / (a z_c); pins with |lrel| < min_lever are left out.
-    Fills coef[m] = [rn, tn, en, lrel, 1/(lrel a z_c), tooth space] and pins[m] = j; returns m.
+
+@nb.njit(nogil=True, cache=True)
+def signed_distance_um(a, rg, zc, qx, qy, t0):
+    """Signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve, positive away
+    from the disc (Newton on (C(t) - q) . C'(t) = 0 from t0), as PinCentreCurve.signed_distance."""
+    t = t0
+    for _ in range(12):
+        x, y, dx, dy, ddx, ddy = curve_point(a, rg, zc, t)
+        rx, ry = x - qx, y - qy
+        f = rx * dx + ry * dy
+        fp = dx * dx + dy * dy + rx * ddx + ry * ddy
+        step = f / fp
+        t -= step
+        if abs(step) < 1e-13:  # quadratic convergence: the last step was below 1e-26
+            break
+    x, y, dx, dy, _, _ = curve_point(a, rg, zc, t)
+    nx, ny = dy, -dx
+    if nx * x + ny * y < 0:  # outward: away from the disc centre
+        nx, ny = -nx, -ny
+    return ((qx - x) * nx + (qy - y) * ny) / math.sqrt(nx * nx + ny * ny) * 1e3
+
+
+@nb.njit(nogil=True, cache=True)
+def exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, t0):
+    """Exact gap [um] of pin j to disc d turned by beta [rad]: the pin centre with all its errors
+    in the disc frame, its signed distance from the modified pin-centre curve (the compiled form
+    of ``exact_gaps_um``, one pin at a time)."""
+    px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
+    cb, sb = math.cos(beta), math.sin(beta)
+    qx, qy = cb * px + sb * py, -sb * px + cb * py
+    return eq[d] + signed_distance_um(a, rp + md[d] * 1e-3, zc, qx, qy, t0) - rho[j] + 0.5 * cl[j]
+
+
+@nb.njit(nogil=True, cache=True)
+def pin_in_disc(cpsi, spsi, ex, ey, cang, sang, dr_j, dt_j, tooth, a, rp, ux_d, uy_d, da_d):
+    """Centre of a pin with all its errors in the frame of its disc (not turned) [mm]: the pin at
+    angle psi (cos, sin) displaced radially by dr and tangentially by dt [um], less the disc
+    centre a (1 + da) along the eccentric e and its profile offset (ux, uy) [um], turned into the
+    disc frame by chi_d / z_c (cos, sin) and back by the tooth space's pitch error [um] at r_p."""
+    rad = rp + dr_j * 1e-3
+    cx = rad * cpsi - dt_j * 1e-3 * spsi
+    cy = rad * spsi + dt_j * 1e-3 * cpsi
+    off = a + da_d * 1e-3
+    px = cx - off * ex - (ux_d * ex - uy_d * ey) * 1e-3
+    py = cy - off * ey - (ux_d * ey + uy_d * ex) * 1e-3
+    dl = -tooth * 1e-3 / rp  # a pitch error is a small angle: cos, sin to 4th order
+    cdl, sdl = 1.0 - 0.5 * dl * dl + dl ** 4 / 24.0, dl - dl ** 3 / 6.0
+    ca, sa = cang * cdl - sang * sdl, sang * cdl + cang * sdl
+    return ca * px - sa * py, sa * px + ca * py
+
+
+@nb.njit(nogil=True, cache=True)
+def pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da):
+    """Centre of pin j with all its errors in the frame of disc d (not turned) [mm], at crank angle chi."""
+    chi_d = chi + 2.0 * math.pi * d / discs
+    psi = 2.0 * math.pi * j / zp
+    k = int(math.floor(j * zc / zp + chi_d / (2.0 * math.pi) + 0.5)) % zc
+    return pin_in_disc(math.cos(psi), math.sin(psi), math.cos(chi_d), math.sin(chi_d), math.cos(chi_d / zc),
+                       math.sin(chi_d / zc), dr[j], dt[j], teeth[d, k], a, rp, ux[d], uy[d], da[d])
+
+
+@nb.njit(nogil=True, cache=True)
+def _contact_rotation(c0, p1, p2, dt_mm, start, sgn):
+    """Smallest x > 0 such that the disc turned by start + sgn x brings the pin to the distance
+    dt_mm from the circle's centre: D(beta)^2 = c0 - 2 (p1 cos beta + p2 sin beta); inf if never."""
+    r = math.sqrt(p1 * p1 + p2 * p2)
+    if r == 0.0:
+        return np.inf
+    v = (c0 - dt_mm * dt_mm) / (2.0 * r)
+    if v > 1.0 or v < -1.0:
+        return np.inf
+    gamma = math.atan2(p2, p1)
+    w = math.acos(v)
+    best = np.inf
+    for root in (gamma + w, gamma - w):
+        root += 2.0 * math.pi * math.floor((start - root) / (2.0 * math.pi) + 0.5)  # the turn nearest to start
+        for shift in (-2.0 * math.pi, 0.0, 2.0 * math.pi):
+            x = sgn * (root + shift - start)
+            if 0.0 < x < best:
+                best = x
+    return best
+
+
+@nb.njit(nogil=True, cache=True)
+def _linear_maxmin(gap, lever, lo, hi, discs, zp):
+    """The rotation maximising min_j (gap_j - lever_j beta) (active-set iteration on the lines)."""
+    beta = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
+    for _ in range(50):
+        fall, rise = np.inf, np.inf
+        gf, lf, gr, lr = 0.0, 0.0, 0.0, 0.0
+        for d in range(discs):
+            for j in range(zp):
+                v = gap[d, j] - lever[d, j] * beta
+                if lever[d, j] > 0.0:
+                    if v < fall:
+                        fall, gf, lf = v, gap[d, j], lever[d, j]
+                elif v < rise:
+                    rise, gr, lr = v, gap[d, j], lever[d, j]
+        if not (math.isfinite(fall) and math.isfinite(rise)) or lf == lr:
+            break
+        nxt = (gf - gr) / (lf - lr)
+        if abs(nxt - beta) <= 1e-15 + 1e-12 * abs(beta):
+            break
+        beta = nxt
+    return beta
+
+
+@nb.njit(nogil=True, cache=True)
+def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
+    """(value, lever) of the lowest falling gap and of the lowest rising gap at rotation beta [um,
+    um/rad], every gap on its osculating circle (see stage_play)."""
+    cb, sb = math.cos(beta), math.sin(beta)
+    fall, rise, lf, lr = np.inf, np.inf, 0.0, 0.0
+    for d in range(discs):
+        for j in range(zp):
+            c = coef[d, j]
+            ox = c[OX] + md[d] * 1e-3 * c[EUX]
+            oy = c[OY] + md[d] * 1e-3 * c[EUY]
+            qx, qy = qx_[d, j], qy_[d, j]
+            p1, p2 = qx * ox + qy * oy, qy * ox - qx * oy
+            dist = math.sqrt(max(qx * qx + qy * qy + ox * ox + oy * oy - 2.0 * (p1 * cb + p2 * sb), 1e-300))
+            v = c[SIDE] * ((c[RHO] - tgt[d, j]) + (dist - c[RHO])) * 1e3  # base + SIDE (D - RHO), in um
+            lv = -c[SIDE] * 1e3 * (p1 * sb - p2 * cb) / dist
+            if lv > 0.0:
+                if v < fall:
+                    fall, lf = v, lv
+            elif v < rise:
+                rise, lr = v, lv
+    return fall, lf, rise, lr
+
+
+@nb.njit(nogil=True, cache=True)
+def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work):
+    """Every pin's gap [um] and lever [um/rad] at beta = 0 on its osculating circle (see stage_play)
+    into gap/lever (discs, z_p); work[0], work[1] receive the pin centres in the disc frame, work[3]
+    the distance from the circle's centre at which each gap closes. Returns (lo, hi, flat): the
+    linearised free interval of beta [rad] and the smallest gap of a pin without a lever [um]."""
+    qx_, qy_, tgt = work[0], work[1], work[3]
+    hi = np.inf
+    lo = -np.inf
+    flat = np.inf
+    for d in range(discs):
+        for j in range(zp):
+            c = coef[d, j]
+            qx, qy = pin_in_disc(c[CPSI], c[SPSI], c[CCHI], c[SCHI], c[CANG], c[SANG], dr[j], dt[j],
+                                 teeth[d, int(c[TOOTH])], a, rp, ux[d], uy[d], da[d])
+            qx_[d, j] = qx
+            qy_[d, j] = qy
+            ox = c[OX] + md[d] * 1e-3 * c[EUX]
+            oy = c[OY] + md[d] * 1e-3 * c[EUY]
+            dist = math.sqrt((qx - ox) ** 2 + (qy - oy) ** 2)
+            base = eq[d] - rho[j] + 0.5 * cl[j]
+            g = base + c[SIDE] * (dist - c[RHO]) * 1e3
+            lv = c[SIDE] * (qy * ox - qx * oy) / dist * 1e3
+            gap[d, j] = g
+            lever[d, j] = lv
+            tgt[d, j] = c[RHO] - c[SIDE] * base * 1e-3  # the distance D at which the gap is 0
+            if lv > 1e-9 * azc_um:
+                hi = min(hi, g / lv)
+            elif lv < -1e-9 * azc_um:
+                lo = max(lo, g / lv)
+            else:
+                flat = min(flat, g)
+    return lo, hi, flat
+
+
+@nb.njit(nogil=True, cache=True)
+def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
+               out):
+    """Play of the cycloid stage of one unit; out = [play_ccw, play_cw, preload_um, pin_ccw, disc_ccw,
+    pin_cw, disc_cw] (plays [rad] from the assembled position; NaN and pin -1 when preloaded).
+
+    Each pin's gap as the disc turns by beta is its distance from the osculating circle of the
+    pin-centre curve at that pin (mesh_table), with every error placed exactly (pin_frame):
+        gap_j(beta) = eq + SIDE (D_j(beta) - RHO) 1e3 - rho_j + cl_j / 2,
+        D_j(beta) = |q_j - R(beta) (O_j + dr_p e_u)|,
+    exact to second order in the displacements (the curve's own curvature included), which the
+    near-tip pins need: C bends there with radii down to 0.2 mm. gap/lever (discs, z_p) receive
+    gap_j(0) [um] and lever_j = -d gap_j / d beta (0) [um/rad] (> 0 stops a counter-clockwise
+    rotation), the elastic model's inputs; ``work`` (4, discs, z_p) is scratch space. The discs
+    are tied by the cranks (one beta). The unit is preloaded when the linearised gaps admit no
+    beta that frees every pin; its preload [um] is then -max_beta min_j gap_j(beta).
+    Otherwise, from the middle of the free interval, each side's first contact is the nearest
+    root of the pins' gaps; the pins within a band of it (BAND_NARROW, BAND_WIDE near the tips)
+    are checked on the exact curve (exact_gap_um) and the first of them solved exactly.
     """
-    zp = cos_psi.size
-    cx = math.cos(chi_d)
-    sx = math.sin(chi_d)
-    m = 0
+    qx_, qy_, est, tgt = work[0], work[1], work[2], work[3]
+    lo, hi, flat = unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever,
+                             work)
+    for i in range(3, 7):
+        out[i] = -1
+    if hi < lo or flat < 0.0:  # preloaded: the deepest interference at the best rotation
+        # the max of min_j gap_j(beta) lies where the lowest falling gap (lever > 0) meets the lowest
+        # rising one: safeguarded Newton on their difference, each gap on its osculating circle
+        beta = _linear_maxmin(gap, lever, lo, hi, discs, zp)
+        m = -np.inf
+        done = False
+        for _ in range(12):  # Newton from the linear answer: usually a few steps
+            fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
+            m = min(fall, rise)
+            if abs(fall - rise) < PRELOAD_STEP_UM:
+                done = True
+                break
+            if lf == lr:
+                break
+            beta += (fall - rise) / (lf - lr)
+        if not done:  # safeguarded: a bracket with the rising gap lowest at its left end, the falling at its right
+            width = 1e-5
+            left, right = beta - width, beta + width
+            for _ in range(60):
+                fl, _, rl, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, left)
+                fr, _, rr, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, right)
+                if fl >= rl and fr <= rr:
+                    break
+                if fl < rl:
+                    left -= width
+                if fr > rr:
+                    right += width
+                width *= 2.0
+            beta = 0.5 * (left + right)
+            for _ in range(80):
+                fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
+                m = min(fall, rise)
+                if abs(fall - rise) < PRELOAD_STEP_UM or right - left < 1e-15:
+                    break
+                if fall > rise:
+                    left = beta
+                else:
+                    right = beta
+                nxt = beta + (fall - rise) / (lf - lr) if lf != lr else 0.5 * (left + right)
+                beta = nxt if left < nxt < right else 0.5 * (left + right)
+        out[0] = np.nan
+        out[1] = np.nan
+        out[2] = max(-m, 0.0)
+        return
+    bc = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
+    out[2] = 0.0
+    for side in range(2):  # 0: counter-clockwise (beta > 0), 1: clockwise
+        sgn = 1.0 if side == 0 else -1.0
+        first_lin = np.inf  # the linear estimate screens out the pins far from contact
+        for d in range(discs):
+            for j in range(zp):
+                slope = sgn * lever[d, j]
+                est[d, j] = (gap[d, j] - lever[d, j] * bc) / slope if slope > 0.0 else np.inf
+                first_lin = min(first_lin, est[d, j])
+        first = np.inf
+        for d in range(discs):  # contact rotation of the pins near it, on their osculating circles
+            for j in range(zp):
+                c = coef[d, j]
+                if est[d, j] > 3.0 * first_lin and c[RHO] >= RHO_TIGHT_MM:
+                    est[d, j] = np.inf
+                    continue
+                qx, qy = qx_[d, j], qy_[d, j]
+                ox = c[OX] + md[d] * 1e-3 * c[EUX]
+                oy = c[OY] + md[d] * 1e-3 * c[EUY]
+                x = np.inf
+                if tgt[d, j] > 0.0:
+                    x = _contact_rotation(qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy,
+                                          qy * ox - qx * oy, tgt[d, j], bc, sgn)
+                est[d, j] = x
+                first = min(first, x)
+        # the candidates on the exact curve: one secant step each from their estimate
+        best = np.inf
+        bd, bj = -1, -1
+        for d in range(discs):
+            for j in range(zp):
+                x = est[d, j]
+                band = BAND_WIDE if coef[d, j][RHO] < RHO_TIGHT_MM else BAND_NARROW
+                if x > first * (1.0 + band):
+                    continue
+                t0 = coef[d, j][T0]
+                f1 = exact_gap_um(j, d, bc + sgn * x, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
+                                  ux, uy, da, t0)
+                h = 1e-7 + 1e-3 * x
+                f2 = exact_gap_um(j, d, bc + sgn * (x + h), chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
+                                  ux, uy, da, t0)
+                if f2 != f1:
+                    x -= f1 * h / (f2 - f1)
+                if x < best:
+                    best, bd, bj = x, d, j
+        for _ in range(3):  # the first of them to full precision
+            t0 = coef[bd, bj][T0]
+            f1 = exact_gap_um(bj, bd, bc + sgn * best, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
+                              ux, uy, da, t0)
+            if abs(f1) < 1e-9:
+                break
+            h = 1e-7 + 1e-4 * best
+            f2 = exact_gap_um(bj, bd, bc + sgn * (best + h), chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq,
+                              md, ux, uy, da, t0)
+            if f2 == f1:
+                break
+            best -= f1 * h / (f2 - f1)
+        out[3 + 2 * side] = bj
+        out[4 + 2 * side] = bd
+        out[side] = best + sgn * bc  # rotation from beta = 0
+    return
+
+
+@nb.njit(nogil=True, cache=True)
+def exact_disc_gaps(d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, out):
+    """exact_gap_um of every pin of disc d [um] into out (z_p)."""
+    chi_d = chi + 2.0 * math.pi * d / discs
     for j in range(zp):
-        cphi = cos_psi[j] * cx + sin_psi[j] * sx
-        sphi = sin_psi[j] * cx - cos_psi[j] * sx
-        rs = 1.0 / math.sqrt(1.0 + k1 * k1 - 2.0 * k1 * cphi)
-        lrel = sphi * rs
-        if abs(lrel) < min_lever:
-            continue
-        coef[m, 0] = (1.0 - k1 * cphi) * rs
-        coef[m, 1] = k1 * sphi * rs
-        coef[m, 2] = (cphi - k1) * rs
-        coef[m, 3] = lrel
-        coef[m, 4] = 1.0 / (lrel * azc_um)
-        coef[m, 5] = int(math.floor(j * zc / zp + chi_d / (2.0 * math.pi) + 0.5)) % zc
-        pins[m] = j
-        m += 1
-    return m
+        t0 = chi_d - 2.0 * math.pi * j / zp + 2.0 * math.pi * j
+        out[j] = exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, t0)
 
 
-@nb.njit(nogil=True, cache=True)
-def disc_play(coef, pins, count, azc_over_rp, eq, md, dr, dt, rho, cl, ux, uy, da, teeth, out):
-    """Linearised play of one disc [rad]; out = [ccw, cw, pin_ccw, pin_cw].
-
-    gap_j [um] = eq + (dr_j - md) rn + dt_j tn - rho_j + cl_j / 2 - da en - (ux en + uy lrel)
-                 - e_k lrel a z_c / r_p;   play = min over each side of gap_j / L_j.
-    """
-    best_p = np.inf
-    best_m = np.inf
-    pin_p = -1
-    pin_m = -1
-    for m in range(count):
-        j = pins[m]
-        rn = coef[m, 0]
-        en = coef[m, 2]
-        lrel = coef[m, 3]
-        gap = (eq + (dr[j] - md) * rn + dt[j] * coef[m, 1] - rho[j] + 0.5 * cl[j] - da * en - ux * en - uy * lrel
-               - teeth[int(coef[m, 5])] * lrel * azc_over_rp)
-        r = gap * coef[m, 4]
-        if lrel > 0:
-            if r < best_p:
-                best_p = r
-                pin_p = j
-        elif -r < best_m:
-            best_m = -r
-            pin_m = j
-    out[0] = best_p
-    out[1] = best_m
-    out[2] = pin_p
-    out[3] = pin_m
+def unit_arrays(r: Realization) -> tuple:
+    """The error arrays of a Realization in the order the kernels take them."""
+    return (r.pin_radial_um, r.pin_tangential_um, r.pin_radius_um, r.pin_clearance_um, r.tooth_pitch_um,
+            r.equidistance_um, r.moving_distance_um, np.ascontiguousarray(r.runout_um[:, 0]),
+            np.ascontiguousarray(r.runout_um[:, 1]), r.eccentricity_error_um)
 
 
-def linear_play(g: ContactGeometry, r: Realization, min_lever: float = MIN_LEVER) -> MeshPlay:
-    """Play of every disc from the small-displacement linearisation (the Monte-Carlo kernel's formula)."""
-    psi = g.pin_angles
-    cos_psi, sin_psi = np.cos(psi), np.sin(psi)
-    discs = []
-    out = np.empty(4)
-    coef, pins = np.empty((g.zp, N_COEF)), np.empty(g.zp, dtype=np.int64)
-    azc_um = g.a_mm * g.zc * 1e3
-    for d in range(g.discs):
-        n = mesh_coefficients(g.disc_crank_angle(r.chi_rad, d), g.K1, azc_um, g.zc, cos_psi, sin_psi, min_lever,
-                              coef, pins)
-        disc_play(coef, pins, n, azc_um / (g.rp_mm * 1e3), r.equidistance_um[d], r.moving_distance_um[d],
-                  r.pin_radial_um, r.pin_tangential_um, r.pin_radius_um, r.pin_clearance_um,
-                  r.runout_um[d, 0], r.runout_um[d, 1], r.eccentricity_error_um[d], r.tooth_pitch_um[d], out)
-        discs.append(DiscPlay(float(out[0]), float(out[1]), int(out[2]), int(out[3])))
-    return MeshPlay(tuple(discs))
+def kernel_play(g: ContactGeometry, r: Realization) -> MeshPlay:
+    """The Monte-Carlo kernel's play of one unit at its exact crank angle (no crank-angle steps)."""
+    coef = mesh_table(g, np.array([r.chi_rad]))[0]
+    out = np.empty(7)
+    gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
+    stage_play(coef, r.chi_rad, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
+               *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r)), gap, lever,
+               np.empty((4, g.discs, g.zp)), out)
+    return MeshPlay((), float(out[2]), g.pitch_radius_um, float(out[0]), float(out[1]))
 
 
 # --- exact play ------------------------------------------------------------------------------
@@ -292,13 +604,12 @@ def exact_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     The discs turn together: the stage is preloaded when max_beta min_d m_d(beta) < 0, and
     that deficit is its preload [um].
     """
-    curves = [PinCentreCurve(g.a_mm, g.rp_mm + r.moving_distance_um[d] * 1e-3, g.zc) for d in range(g.discs)]
-    frames = [_disc_frame_pins(g, r, d) for d in range(g.discs)]
+    arrays = tuple(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r))
+    buf = np.empty(g.zp)
 
-    def gaps(d: int, beta: float) -> np.ndarray:
-        q, t0, _ = frames[d]
-        s, _ = curves[d].signed_distance(rotate(q, -beta), t0)
-        return r.equidistance_um[d] + s * 1e3 - r.pin_radius_um + 0.5 * r.pin_clearance_um
+    def gaps(d: int, beta: float) -> np.ndarray:  # exact_gaps_um, compiled
+        exact_disc_gaps(d, beta, r.chi_rad, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, *arrays, buf)
+        return buf.copy()
 
     lin = [linear_gaps_um(g, r, d) for d in range(g.discs)]
     scale = max(float(np.max(np.abs(lev))) for _, lev in lin)  # um per rad: sets the rotation step
@@ -327,4 +638,7 @@ def exact_play(g: ContactGeometry, r: Realization) -> MeshPlay:
         lo = _exact_root(lambda b: float(gaps(d, b).min()), bd, -step)
         discs.append(DiscPlay(hi, -lo, int(np.argmin(gaps(d, hi))), int(np.argmin(gaps(d, lo)))))
     preload = -m_stage if m_stage < -PRELOAD_TOL_UM else 0.0
-    return MeshPlay(tuple(discs), preload, g.pitch_radius_um)
+    if preload > 0:
+        return MeshPlay(tuple(discs), preload, g.pitch_radius_um, math.nan, math.nan)
+    return MeshPlay(tuple(discs), 0.0, g.pitch_radius_um, min(x.play_ccw_rad for x in discs),
+                    min(x.play_cw_rad for x in discs))

@@ -18,6 +18,7 @@ from rvbacklash.factors.output import stage_coefficient_arcmin_per_um
 from rvbacklash.geometry import reducer
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.geometry.reducer import DerivedGeometry
+from rvbacklash.problem.contact_errors import ContactErrorModel, contact_error_model
 from rvbacklash.problem.zones import resolve_zones
 
 
@@ -71,6 +72,7 @@ class Problem:
     correlation: np.ndarray  # (21, 21)
     gains_um_per_um: np.ndarray  # transfer of each factor to circumferential backlash
     stage_coefficients_arcmin_per_um: np.ndarray  # Eq. (1) coefficient of each factor's stage
+    contact_errors: ContactErrorModel  # tolerances of the indexed parts for the contact model
     stages: np.ndarray = field(default_factory=lambda: np.array([int(f.stage) for f in CATALOG]))
 
     @property
@@ -128,4 +130,5 @@ def prepare(design: Design, source: str = "<object>", text: str | None = None) -
         means_um=moments[:, 0].copy(), sigmas_um=moments[:, 1].copy(), correlation=correlation_matrix(design),
         gains_um_per_um=np.array([f.gain(g) for f in CATALOG]),
         stage_coefficients_arcmin_per_um=np.array([stage_coefficient_arcmin_per_um(f.stage, g) for f in CATALOG]),
+        contact_errors=contact_error_model(design, zones),
     )

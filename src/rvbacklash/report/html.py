@@ -7,6 +7,9 @@ import jinja2
 
 from rvbacklash.analysis.report_data import ReportData
 from rvbacklash.report import plots
+from rvbacklash.report.elastic_plots import elastic_figures
+from rvbacklash.report.sweep import section_context as sweep_section_context
+from rvbacklash.report.what_to_tighten import what_to_tighten_context
 
 
 def render_html(data: ReportData) -> str:
@@ -23,7 +26,13 @@ def render_html(data: ReportData) -> str:
         "scenarios": plots.inline_svg(plots.scenario_overlay_svg(comparison.scenarios, data.spec_arcmin))
         if comparison is not None and comparison.scenarios else None,
         "contact": plots.inline_svg(plots.contact_svg(data.contact)) if data.contact is not None else None,
+        "preload": plots.inline_svg(plots.preload_svg(sim)) if "backlash_free" in sim.outputs else None,
     }
+    extra = what_to_tighten_context(data.sensitivity, data.allocation)
+    if data.elastic is not None:
+        extra.update(elastic=data.elastic, elastic_figures=elastic_figures(data.elastic))
+    if data.sweep is not None:
+        extra.update(sweep_section_context(data.sweep))
     return env.get_template("report.html.j2").render(
         d=data, design=data.problem.design, r=data.stackup, sim=sim, out=sim.output, meta=data.metadata(),
-        keys=data.key_numbers(), figures=figures, comparison=comparison, contact=data.contact)
+        keys=data.key_numbers(), figures=figures, comparison=comparison, contact=data.contact, **extra)

@@ -201,3 +201,27 @@ def contact_svg(nominal) -> str:
         zx.set_yticks([])
         zx.set_title(f"pin {j} ({name}): gap {gap:.2f} µm\n(shown ×{magnify:g})", fontsize=9)
     return _svg(fig)
+
+
+def preload_svg(sim) -> str:
+    """Contact model: backlash of the units whose cycloid stage is free, beside the preload of the
+    others, with the share of each."""
+    free, pre = sim.outputs["backlash_free"], sim.outputs["preload"]
+    fig, axes = plt.subplots(1, 2, figsize=(9.5, 3.6))
+    for ax, o, colour, title in ((axes[0], free, BLUE, f"free units ({(1 - sim.preload_fraction) * 100:.1f} %)"),
+                                 (axes[1], pre, RED, f"preloaded units ({sim.preload_fraction * 100:.1f} %)")):
+        if o.samples:
+            ax.stairs(np.asarray(o.histogram.density), np.asarray(o.histogram.edges), fill=True, alpha=0.6,
+                      color=colour)
+            q = o.quantiles.at(0.99865).value
+            if q is not None:
+                ax.axvline(q, color="k", ls=":", lw=1, label=f"99.865 %: {q:.3g} {o.unit}")
+                ax.legend(fontsize=8)
+        else:
+            ax.text(0.5, 0.5, "none", ha="center", va="center", transform=ax.transAxes)
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel(f"{'output backlash' if o.unit == 'arcmin' else 'preload'} [{o.unit}]")
+        ax.set_ylabel(f"density [1/{o.unit}]")
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return _svg(fig)

@@ -147,7 +147,8 @@ def print_sources(result: StackupResult, console: Console) -> None:
 
 def print_contact(result, console: Console) -> None:
     """The nominal design's play from the exact contact geometry."""
-    t = Table(title=escape(f"Contact model, nominal design at crank angle {result.crank_angle_deg:g} deg"),
+    what = "nominal design" if result.unit == "nominal" else result.unit
+    t = Table(title=escape(f"Contact model, {what} at crank angle {result.crank_angle_deg:g} deg"),
               title_justify="left")
     for c in ["disc", "play ccw [arcmin]", "play cw [arcmin]", "first-contact pins ccw", "first-contact pins cw"]:
         t.add_column(escape(c), justify="right")
@@ -155,8 +156,8 @@ def print_contact(result, console: Console) -> None:
         t.add_row(str(disc.disc), f"{disc.play_ccw_arcmin:.4f}", f"{disc.play_cw_arcmin:.4f}",
                   ", ".join(map(str, disc.contact_pins_ccw)), ", ".join(map(str, disc.contact_pins_cw)))
     console.print(t)
-    stage = "[bold red]preloaded[/] (no rotation frees every pin)" if result.cycloid_stage_preloaded else \
-        f"{result.cycloid_stage_arcmin:.4f} arcmin"
+    stage = (f"[bold red]preloaded[/] by {result.preload_um:.3f} um (no rotation frees every pin)"
+             if result.cycloid_stage_preloaded else f"{result.cycloid_stage_arcmin:.4f} arcmin")
     console.print(f"cycloid stage {stage} (linear model, mean: {result.linear_cycloid_stage_mean_arcmin:.4f} arcmin); "
                   f"other stages at their means "
                   + ", ".join(f"{k} {v:.4f}" for k, v in result.other_stages_mean_arcmin.items())

@@ -1,34 +1,65 @@
-"""Monte-Carlo of the contact model through the same engine: a block source whose values are
-the output backlash [arcmin] of independent realisations of every per-pin and per-tooth error.
+"""Monte-Carlo of the contact model through the engine: a block source whose outputs are the
+backlash of every unit [arcmin], the backlash of the units whose cycloid stage is free, and the
+preload of the others [um].
 
-Each pin draws its own radial position (factor 14's zone), tangential position (17), radius
-(15) and hole clearance (16); each disc its own cumulative pitch error per tooth space (10),
-run-out vector (13: two components, each half a draw of the phase-weighted reading, i.e. a
-Rayleigh magnitude with a uniform direction for normal readings), crank eccentricity error (21)
-and modification errors (18, 19); the modifications themselves (11, 12) are drawn once per
-reducer (one grinding set-up). The crank angle of the measurement is uniform. Stage 1 and the
-crank bearing clearance (20) enter linearly, as in the linear model.
+Every catalog factor draws from a random stream of its own, and the crank angle of the
+measurement from one more (``SeedSequence(seed, spawn_key=(*stream, block, factor))``): a
+factor's values do not depend on the others' draws, so that a factor can be redrawn alone
+(global sensitivity: a factor with per-pin or per-tooth draws is one group).
+
+What a unit draws (docs/contact.md, "Part errors"):
+- ``long_wave`` (default): each disc's teeth and the housing's pin holes are an indexed part,
+  a first and a second harmonic plus a per-element part (``part_errors``), calibrated to
+  conform to the part's F_p, f_pt (and F_r) at 97 %; the pin-circle radius deviation (factor
+  14) is one value per housing; every pin's radius (15) and hole clearance (16) are drawn per
+  pin within their zones (ISO 286 fields: truncated);
+- ``independent``: today's pessimistic reading, every element drawn on its own from its zone
+  (pins: radial position 14, tangential position 17, radius 15, clearance 16; teeth: 10).
+Both: the modifications (11, 12) once per reducer (one grinding set-up), per disc the run-out
+vector (13: two components, each half a draw of the phase-weighted reading), the crank
+eccentricity error (21) and the modification errors (18, 19); stage 1 and the crank bearing
+clearance (20) enter linearly, as in the linear model. The crank angle is uniform over one
+pin pitch in CRANK_STEPS steps (the geometry repeats every pin pitch).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-import numba as nb
+from rvbacklash._numba import nb
 import numpy as np
+from numpy.random import PCG64, Generator, SeedSequence
 
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG
-from rvbacklash.factors.distributions import KERNEL_TABLE, TABLE_POINTS, kernel_draw, ppf_table
+from rvbacklash.factors.distributions import (KERNEL_NORMAL, KERNEL_TABLE, KERNEL_TRUNCNORM, TABLE_POINTS,
+                                              kernel_draw, ppf_table)
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import MIN_LEVER, N_COEF, disc_play, mesh_coefficients
+from rvbacklash.models.contact import Realization, mesh_table, stage_play
 from rvbacklash.problem import Problem
-from rvbacklash.sampling.engine import Output, block_generator
+from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.kernels import box_muller_normal
+from rvbacklash.sampling.part_errors import calibrate, harmonic_deviations
 from rvbacklash.units import ARCMIN_PER_RAD
 
 IDX = {f.key: f.id - 1 for f in CATALOG}
+CRANK_STREAM = len(CATALOG)  # the stream after the 21 factors': the crank angle of the measurement
+N_STREAMS = len(CATALOG) + 1
+CRANK_STEPS = 256  # crank-angle steps per pin pitch
+ERROR_MODELS = ("long_wave", "independent")
+STAGE2_ORDER = ("disc_cumulative_pitch", "equidistance_modification", "moving_distance_modification", "disc_runout",
+                "pin_circle_radius", "pin_radius", "pin_hole_clearance", "pin_cumulative_pitch",
+                "equidistance_modification_error", "moving_distance_modification_error", "crank_eccentricity")
+LINEAR_KEYS = tuple(f.key for f in CATALOG if f.stage.label in ("involute", "crank") and f.key != "crank_eccentricity")
+
+
+def block_streams(seed: int, block: int, stream: tuple[int, ...] = (), swap: tuple[int, ...] = (),
+                  swap_stream: tuple[int, ...] = ()) -> tuple:
+    """The generators of block ``block``: one per catalog factor and one for the crank angle.
+    Factors listed in ``swap`` draw from ``swap_stream`` instead (a Sobol-type redraw)."""
+    return tuple(Generator(PCG64(SeedSequence(seed, spawn_key=(*(swap_stream if f in swap else stream), block, f))))
+                 for f in range(N_STREAMS))
 
 
 def marginal_table(problem: Problem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -43,6 +74,15 @@ def marginal_table(problem: Problem) -> tuple[np.ndarray, np.ndarray, np.ndarray
         if codes[i] == KERNEL_TABLE:
             tables[i] = ppf_table(z)
     return codes, params, tables
+
+
+def within_zone(problem: Problem, key: str, codes: np.ndarray, params: np.ndarray) -> None:
+    """A normal reading of ``key`` truncated to its zone (a conforming part), in place."""
+    i = IDX[key]
+    z = problem.zones[i]
+    if codes[i] == KERNEL_NORMAL and z.upper_um > z.lower_um:
+        codes[i] = KERNEL_TRUNCNORM
+        params[i] = (params[i, 0], params[i, 1], z.lower_um, z.upper_um)
 
 
 @nb.njit(nogil=True, cache=True, inline="always")
@@ -75,107 +115,163 @@ def draw(rng, code, p0, p1, p2, p3, bm, table):
     return table[i] + f * (table[i + 1] - table[i])
 
 
-CRANK_STEPS = 256  # crank-angle steps per pin pitch (the mesh geometry repeats every pin pitch)
+@nb.njit(nogil=True, cache=True)
+def unit_scratch(zp, zc, discs):
+    """The arrays one unit's errors are drawn into: dr, dt, rho, cl (z_p), teeth (discs, z_c), eq,
+    md, ux, uy, da (discs), and the scratch of draw_unit and stage_play."""
+    return (np.empty(zp), np.empty(zp), np.empty(zp), np.empty(zp), np.empty((discs, zc)), np.empty(discs),
+            np.empty(discs), np.empty(discs), np.empty(discs), np.empty(discs),
+            np.empty(zp), np.empty(zp), np.empty(zc), np.empty(zc), np.zeros(zc), harmonics_trig(zp),
+            harmonics_trig(zc), np.empty((discs, zp)), np.empty((discs, zp)), np.empty((4, discs, zp)), np.empty(7))
 
 
 @nb.njit(nogil=True, cache=True)
-def mesh_tables(k1, azc_um, zc, discs, cos_psi, sin_psi, min_lever, steps):
-    """Coefficients of every disc at ``steps`` crank angles spread over one pin pitch."""
-    zp = cos_psi.size
-    coef = np.empty((steps, discs, zp, N_COEF))
-    pins = np.empty((steps, discs, zp), dtype=np.int64)
-    count = np.empty((steps, discs), dtype=np.int64)
-    for s in range(steps):
-        chi = 2.0 * math.pi / zp * (s + 0.5) / steps
-        for d in range(discs):
-            count[s, d] = mesh_coefficients(chi + 2.0 * math.pi * d / discs, k1, azc_um, zc, cos_psi, sin_psi,
-                                            min_lever, coef[s, d], pins[s, d])
-    return coef, pins, count
+def harmonics_trig(n):
+    """(4, n): cos theta_k, sin theta_k, cos 2 theta_k, sin 2 theta_k (part_errors.harmonics_table)."""
+    out = np.empty((4, n))
+    for k in range(n):
+        th = 2.0 * math.pi * k / n
+        out[0, k], out[1, k], out[2, k], out[3, k] = math.cos(th), math.sin(th), math.cos(2 * th), math.sin(2 * th)
+    return out
 
 
 @nb.njit(nogil=True, cache=True)
-def contact_block(rng, n, bm, codes, params, tables, linear_idx, linear_sens, azc_over_rp, azc_um, zp, zc, discs,
-                  coef, pins, count, idx, out):
-    """Outputs of n independent realisations: out[0] output backlash [arcmin] of every unit,
-    out[1] the same for units whose cycloid stage is free (NaN if preloaded), out[2] preload
-    [um] (NaN if free). The catalog indices in idx are idx holds the catalog indices of
-    of [pitch_disc, eq, md, runout, pin_r, pin_rad, clear, pin_t, eq_err, md_err, ecc] (STAGE2_ORDER).
-    The crank angle is uniform over one pin pitch in coef.shape[0] steps: the geometry repeats
-    every pin pitch and the pins' errors are exchangeable, so that covers every position.
-    A negative play of the cycloid stage means interference: that stage is preloaded and adds no
-    lost motion (0); its preload is the interference at the disc pitch circle, -play a z_c."""
-    dr = np.empty(zp)
-    dt = np.empty(zp)
-    rho = np.empty(zp)
-    cl = np.empty(zp)
-    teeth = np.empty(zc)
-    res = np.empty(4)
-    steps = coef.shape[0]
-    nl = linear_idx.size
-    lc = np.empty(nl, dtype=np.int64)
-    lp = np.empty((nl, 4))
-    lt = np.empty((nl, tables.shape[1]))
-    for m in range(nl):
-        lc[m] = codes[linear_idx[m]]
-        lp[m] = params[linear_idx[m]]
-        lt[m] = tables[linear_idx[m]]
-    c = np.empty(11, dtype=np.int64)
-    q = np.empty((11, 4))
-    tb = np.empty((11, tables.shape[1]))
-    for m in range(11):
-        c[m] = codes[idx[m]]
-        q[m] = params[idx[m]]
-        tb[m] = tables[idx[m]]
-    for s in range(n):
-        step = int(steps * rng.random())
-        lin = 0.0
-        for m in range(nl):
-            lin += linear_sens[m] * draw(rng, lc[m], lp[m, 0], lp[m, 1], lp[m, 2], lp[m, 3], bm, lt[m])
-        eq = draw(rng, c[1], q[1, 0], q[1, 1], q[1, 2], q[1, 3], bm, tb[1])
-        md = draw(rng, c[2], q[2, 0], q[2, 1], q[2, 2], q[2, 3], bm, tb[2])
+def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx, zp, zc, discs,
+              steps, sc):
+    """Draw one unit's errors into the arrays of ``sc`` (unit_scratch); returns (crank-angle step,
+    linear stages [arcmin], the crank-bearing clearance drawn [um], eq, md). The linear stages are
+    the factors of ``linear_idx`` (LINEAR_KEYS: stage 1, then the crank-bearing clearance, the
+    last). ``idx`` holds the catalog indices of STAGE2_ORDER,
+    ``harmonics`` (2, 4) the sigmas [first, second, element, radial element] of the disc teeth
+    and of the pin holes (part_errors). Each factor draws from its own stream."""
+    dr, dt, rho, cl, teeth, eq, md, ux, uy, da, s_p, q_p, s_c, tr, zeros_z, trig_p, trig_c = sc[:17]
+    # each stage-2 factor's generator, law and table, hoisted out of the loops (STAGE2_ORDER)
+    g_pitch, c_pitch, p_pitch, t_pitch = streams[idx[0]], codes[idx[0]], params[idx[0]], tables[idx[0]]
+    g_eq, c_eq, p_eq, t_eq = streams[idx[1]], codes[idx[1]], params[idx[1]], tables[idx[1]]
+    g_md, c_md, p_md, t_md = streams[idx[2]], codes[idx[2]], params[idx[2]], tables[idx[2]]
+    g_ro, c_ro, p_ro, t_ro = streams[idx[3]], codes[idx[3]], params[idx[3]], tables[idx[3]]
+    g_rad, c_rad, p_rad, t_rad = streams[idx[4]], codes[idx[4]], params[idx[4]], tables[idx[4]]
+    g_rho, c_rho, p_rho, t_rho = streams[idx[5]], codes[idx[5]], params[idx[5]], tables[idx[5]]
+    g_cl, c_cl, p_cl, t_cl = streams[idx[6]], codes[idx[6]], params[idx[6]], tables[idx[6]]
+    g_t, c_t, p_t, t_t = streams[idx[7]], codes[idx[7]], params[idx[7]], tables[idx[7]]
+    g_eqe, c_eqe, p_eqe, t_eqe = streams[idx[8]], codes[idx[8]], params[idx[8]], tables[idx[8]]
+    g_mde, c_mde, p_mde, t_mde = streams[idx[9]], codes[idx[9]], params[idx[9]], tables[idx[9]]
+    g_da, c_da, p_da, t_da = streams[idx[10]], codes[idx[10]], params[idx[10]], tables[idx[10]]
+    hd, hp = harmonics[0], harmonics[1]
+    step = int(steps * streams[21].random())
+    lin = 0.0
+    last = 0.0
+    for m in range(linear_idx.size):
+        f = linear_idx[m]
+        last = draw(streams[f], codes[f], params[f, 0], params[f, 1], params[f, 2], params[f, 3], bm, tables[f])
+        lin += linear_sens[m] * last
+    eq0 = draw(g_eq, c_eq, p_eq[0], p_eq[1], p_eq[2], p_eq[3], bm, t_eq)
+    md0 = draw(g_md, c_md, p_md[0], p_md[1], p_md[2], p_md[3], bm, t_md)
+    # the pins and their holes
+    if long_wave:
+        common = draw(g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
+        hx, hy = hp[0] * _normal(g_t, bm), hp[0] * _normal(g_t, bm)
+        cx, cy = hp[1] * _normal(g_t, bm), hp[1] * _normal(g_t, bm)
         for j in range(zp):
-            dr[j] = draw(rng, c[4], q[4, 0], q[4, 1], q[4, 2], q[4, 3], bm, tb[4])
-            dt[j] = draw(rng, c[7], q[7, 0], q[7, 1], q[7, 2], q[7, 3], bm, tb[7])
-            rho[j] = draw(rng, c[5], q[5, 0], q[5, 1], q[5, 2], q[5, 3], bm, tb[5])
-            cl[j] = draw(rng, c[6], q[6, 0], q[6, 1], q[6, 2], q[6, 3], bm, tb[6])
-        best_p = np.inf
-        best_m = np.inf
-        for d in range(discs):
-            eqd = eq + draw(rng, c[8], q[8, 0], q[8, 1], q[8, 2], q[8, 3], bm, tb[8])
-            mdd = md + draw(rng, c[9], q[9, 0], q[9, 1], q[9, 2], q[9, 3], bm, tb[9])
-            ux = 0.5 * draw(rng, c[3], q[3, 0], q[3, 1], q[3, 2], q[3, 3], bm, tb[3])
-            uy = 0.5 * draw(rng, c[3], q[3, 0], q[3, 1], q[3, 2], q[3, 3], bm, tb[3])
-            da = draw(rng, c[10], q[10, 0], q[10, 1], q[10, 2], q[10, 3], bm, tb[10])
+            s_p[j] = hp[2] * _normal(g_t, bm)
+            q_p[j] = hp[3] * _normal(g_t, bm)
+        harmonic_deviations(hx, hy, cx, cy, s_p, q_p, trig_p, dt, dr)
+        for j in range(zp):
+            dr[j] += common
+    else:
+        for j in range(zp):
+            dr[j] = draw(g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
+            dt[j] = draw(g_t, c_t, p_t[0], p_t[1], p_t[2], p_t[3], bm, t_t)
+    for j in range(zp):
+        rho[j] = draw(g_rho, c_rho, p_rho[0], p_rho[1], p_rho[2], p_rho[3], bm, t_rho)
+        cl[j] = draw(g_cl, c_cl, p_cl[0], p_cl[1], p_cl[2], p_cl[3], bm, t_cl)
+    # the discs
+    for d in range(discs):
+        eq[d] = eq0 + draw(g_eqe, c_eqe, p_eqe[0], p_eqe[1], p_eqe[2], p_eqe[3], bm, t_eqe)
+        md[d] = md0 + draw(g_mde, c_mde, p_mde[0], p_mde[1], p_mde[2], p_mde[3], bm, t_mde)
+        ux[d] = 0.5 * draw(g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
+        uy[d] = 0.5 * draw(g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
+        da[d] = draw(g_da, c_da, p_da[0], p_da[1], p_da[2], p_da[3], bm, t_da)
+        if long_wave:
+            hx, hy = hd[0] * _normal(g_pitch, bm), hd[0] * _normal(g_pitch, bm)
+            cx, cy = hd[1] * _normal(g_pitch, bm), hd[1] * _normal(g_pitch, bm)
             for k in range(zc):
-                teeth[k] = draw(rng, c[0], q[0, 0], q[0, 1], q[0, 2], q[0, 3], bm, tb[0])
-            disc_play(coef[step, d], pins[step, d], count[step, d], azc_over_rp, eqd, mdd, dr, dt, rho, cl,
-                      ux, uy, da, teeth, res)
-            if res[0] < best_p:
-                best_p = res[0]
-            if res[1] < best_m:
-                best_m = res[1]
-        play = best_p + best_m
-        if play < 0.0:
+                s_c[k] = hd[2] * _normal(g_pitch, bm)
+            harmonic_deviations(hx, hy, cx, cy, s_c, zeros_z, trig_c, teeth[d], tr)
+        else:
+            for k in range(zc):
+                teeth[d, k] = draw(g_pitch, c_pitch, p_pitch[0], p_pitch[1], p_pitch[2], p_pitch[3], bm, t_pitch)
+    return step, lin, last, eq0, md0
+
+
+@nb.njit(nogil=True, cache=True)
+def save_unit(row, step, lin, eq0, md0, sc, zp, zc, discs, stage):
+    """One unit's errors into a row of the --save-units record (ContactBlockSource.saved_units)."""
+    dr, dt, rho, cl, teeth, eq, md, ux, uy, da = sc[:10]
+    row[0] = step
+    row[1] = lin
+    row[2] = eq0
+    row[3] = md0
+    c = 4
+    for d in range(discs):
+        row[c] = eq[d]
+        row[c + 1] = md[d]
+        row[c + 2] = ux[d]
+        row[c + 3] = uy[d]
+        row[c + 4] = da[d]
+        c += 5
+    for arr in (dr, dt, rho, cl):
+        for j in range(zp):
+            row[c] = arr[j]
+            c += 1
+    for d in range(discs):
+        for k in range(zc):
+            row[c] = teeth[d, k]
+            c += 1
+    row[c] = stage
+
+
+@nb.njit(nogil=True, cache=True)
+def contact_block(streams, n, bm, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx,
+                  a, rp, zc, zp, discs, azc_um, coef, out, save):
+    """n units: out[0] backlash of every unit [arcmin], out[1] the same of the units whose cycloid
+    stage is free (NaN if preloaded), out[2] preload [um] (NaN if free). The first save.shape[0]
+    units are recorded in ``save`` (save_unit)."""
+    sc = unit_scratch(zp, zc, discs)
+    dr, dt, rho, cl, teeth, eq, md, ux, uy, da = sc[:10]
+    gap, lever, work, res = sc[17], sc[18], sc[19], sc[20]
+    steps = coef.shape[0]
+    for s in range(n):
+        step, lin, _, eq0, md0 = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
+                                           linear_sens, idx, zp, zc, discs, steps, sc)
+        chi = 2.0 * math.pi / zp * (step + 0.5) / steps
+        stage_play(coef[step], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
+                   gap, lever, work, res)
+        if math.isnan(res[0]):
             out[0, s] = lin
             out[1, s] = np.nan
-            out[2, s] = -play * azc_um
+            out[2, s] = res[2]
+            stage = -res[2]
         else:
-            out[0, s] = lin + play * ARCMIN_PER_RAD
+            stage = (res[0] + res[1]) * ARCMIN_PER_RAD
+            out[0, s] = lin + stage
             out[1, s] = out[0, s]
             out[2, s] = np.nan
+        if s < save.shape[0]:
+            save_unit(save[s], step, lin, eq0, md0, sc, zp, zc, discs, stage)
 
 
-STAGE2_ORDER = ("disc_cumulative_pitch", "equidistance_modification", "moving_distance_modification", "disc_runout",
-                "pin_circle_radius", "pin_radius", "pin_hole_clearance", "pin_cumulative_pitch",
-                "equidistance_modification_error", "moving_distance_modification_error", "crank_eccentricity")
-
-
+PRELOAD_OUTPUT = Output("preload", "um", "preload of the units whose cycloid stage is preloaded (deepest "
+                        "interference)", conditional=True, hint_range=(0.0, 50.0))
 CONTACT_OUTPUTS = (
-    Output("backlash", "arcmin", "output backlash (rigid lost motion); a preloaded cycloid stage adds 0"),
+    Output("backlash", "arcmin", "output backlash (rigid lost motion), every unit; a preloaded cycloid stage adds 0"),
     Output("backlash_free", "arcmin", "output backlash of the units whose cycloid stage is free", conditional=True),
-    Output("preload", "um", "interference of a preloaded cycloid stage at the disc pitch circle", conditional=True,
-           hint_range=(0.0, 50.0)),
+    PRELOAD_OUTPUT,
 )
+
+
+def save_width(g: ContactGeometry) -> int:
+    return 4 + 5 * g.discs + 4 * g.zp + g.discs * g.zc + 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,37 +282,104 @@ class ContactBlockSource:
     seed: int
     stream: tuple[int, ...]
     geometry: ContactGeometry
+    error_model: str
     codes: np.ndarray
     params: np.ndarray
     ppf_tables: np.ndarray
+    harmonics: np.ndarray  # (2, 4): disc teeth, pin holes
     linear_idx: np.ndarray
     linear_sens: np.ndarray
-    tables: tuple  # (coef, pins, count) from mesh_tables
+    coef: np.ndarray  # mesh_table at the crank-angle steps
+    save_units: int = 0  # record the errors of the first units of block 0
+    saved: list = field(default_factory=list)  # the recorded rows (filled by block 0)
+    swap: tuple[int, ...] = ()  # factors drawn from ``swap_stream`` (Sobol redraws)
+    swap_stream: tuple[int, ...] = ()
     outputs: tuple[Output, ...] = CONTACT_OUTPUTS
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(3, n) outputs of block b (CONTACT_OUTPUTS)."""
         g = self.geometry
         out = np.empty((len(self.outputs), n))
-        coef, pins, count = self.tables
-        contact_block(block_generator(self.seed, b, self.stream), n, self.method == "box-muller", self.codes, self.params,
-                      self.ppf_tables, self.linear_idx, self.linear_sens, g.a_mm * g.zc / g.rp_mm, g.pitch_radius_um,
-                      g.zp, g.zc, g.discs, coef, pins, count, np.array([IDX[k] for k in STAGE2_ORDER]), out)
+        nsave = min(self.save_units, n) if b == 0 else 0
+        save = np.empty((nsave, save_width(g)))
+        contact_block(block_streams(self.seed, b, self.stream, self.swap, self.swap_stream), n,
+                      self.method == "box-muller", self.error_model == "long_wave", self.codes, self.params,
+                      self.ppf_tables, self.harmonics, self.linear_idx, self.linear_sens,
+                      np.array([IDX[k] for k in STAGE2_ORDER]), g.a_mm, g.rp_mm, g.zc, g.zp, g.discs,
+                      g.pitch_radius_um, self.coef, out, save)
+        if nsave:
+            self.saved[:] = list(save)
+        return out
+
+    def crank_angle_rad(self, step: int) -> float:
+        return 2.0 * math.pi / self.geometry.zp * (step + 0.5) / self.coef.shape[0]
+
+    def saved_units(self) -> list[tuple[Realization, float, float]]:
+        """The recorded units of block 0: (errors, linear stages [arcmin], cycloid stage [arcmin]
+        as the kernel found it, or -preload [um] when preloaded)."""
+        g = self.geometry
+        out = []
+        for row in self.saved:
+            c = 4
+            per_disc = np.asarray(row[c:c + 5 * g.discs]).reshape(g.discs, 5)
+            c += 5 * g.discs
+            dr, dt, rho, cl = (np.array(row[c + i * g.zp:c + (i + 1) * g.zp]) for i in range(4))
+            c += 4 * g.zp
+            teeth = np.array(row[c:c + g.discs * g.zc]).reshape(g.discs, g.zc)
+            r = Realization(self.crank_angle_rad(int(row[0])), dr, dt, rho, cl, teeth, per_disc[:, 2:4].copy(),
+                            per_disc[:, 4].copy(), per_disc[:, 0].copy(), per_disc[:, 1].copy())
+            out.append((r, float(row[1]), float(row[-1])))
         return out
 
 
-def contact_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = ()) -> ContactBlockSource:
+def contact_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
+                   error_model: str | None = None, save_units: int = 0, swap: tuple[int, ...] = (),
+                   swap_stream: tuple[int, ...] = ()) -> ContactBlockSource:
+    """The contact model's block source. ``error_model`` overrides the design's ``[contact]``."""
     if method not in ("default", "box-muller"):
         raise InputError("method", method, "allowed with model 'contact': default, box-muller")
     if problem.correlated:
         raise InputError("correlation", "given", "the contact model draws independent per-pin errors; "
                                                  "remove [correlation] or use the linear model")
-    geometry = problem.cycloid
+    model = error_model or problem.contact_errors.error_model
+    if model not in ERROR_MODELS:
+        raise InputError("error_model", model, f"allowed: {', '.join(ERROR_MODELS)}")
+    g = problem.cycloid
     codes, params, ppf = marginal_table(problem)
-    linear_keys = [f.key for f in CATALOG if f.stage.label in ("involute", "crank") and f.key != "crank_eccentricity"]
-    linear_idx = np.array([IDX[k] for k in linear_keys])
-    psi = geometry.pin_angles
-    tables = mesh_tables(geometry.K1, geometry.pitch_radius_um, geometry.zc, geometry.discs,
-                         np.cos(psi), np.sin(psi), MIN_LEVER, CRANK_STEPS)
-    return ContactBlockSource(method, seed, tuple(stream), geometry, codes, params, ppf, linear_idx,
-                              np.ascontiguousarray(problem.sensitivities_arcmin_per_um[linear_idx]), tables)
+    harmonics = np.zeros((2, 4))
+    if model == "long_wave":
+        for key in ("pin_radius", "pin_hole_clearance"):
+            within_zone(problem, key, codes, params)
+        for row, part in enumerate((problem.contact_errors.disc, problem.contact_errors.pin_holes)):
+            h = calibrate(part)
+            harmonics[row] = (h.first_um, h.second_um, h.element_um, h.radial_element_um)
+    linear_idx = np.array([IDX[k] for k in LINEAR_KEYS])
+    chis = 2.0 * math.pi / g.zp * (np.arange(CRANK_STEPS) + 0.5) / CRANK_STEPS
+    return ContactBlockSource(method, seed, tuple(stream), g, model, codes, params, ppf, harmonics, linear_idx,
+                              np.ascontiguousarray(problem.sensitivities_arcmin_per_um[linear_idx]),
+                              mesh_table(g, chis), int(save_units), [], tuple(swap), tuple(swap_stream))
+
+
+@dataclass(frozen=True, eq=False)
+class ContactStreams:
+    """The contact model as global sensitivity needs it (analysis.sensitivity_global.StreamModel):
+    every catalog factor, and the crank angle, draws from the generator it is given."""
+
+    source: ContactBlockSource
+    random: tuple[bool, ...]
+    inputs: tuple[str, ...] = tuple(f.key for f in CATALOG) + ("crank_angle",)
+    outputs: tuple[Output, ...] = CONTACT_OUTPUTS
+
+    def block(self, generators, n: int) -> np.ndarray:
+        s, g = self.source, self.source.geometry
+        out = np.empty((len(self.outputs), n))
+        contact_block(tuple(generators), n, False, s.error_model == "long_wave", s.codes, s.params, s.ppf_tables,
+                      s.harmonics, s.linear_idx, s.linear_sens, np.array([IDX[k] for k in STAGE2_ORDER]), g.a_mm,
+                      g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um, s.coef, out, np.empty((0, save_width(g))))
+        return out
+
+
+def contact_streams(problem: Problem, error_model: str | None = None) -> ContactStreams:
+    source = contact_source(problem, "default", 0, error_model=error_model)
+    random = tuple(bool(x) for x in problem.random_mask) + (True,)
+    return ContactStreams(source, random)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
+from rvbacklash._numba import nb
 import numpy as np
 
 TWO_PI = 2.0 * math.pi

@@ -1,0 +1,122 @@
+"""Commands `sensitivity` (Sobol indices of any model) and `allocate` (the cheapest grades that
+meet a spec): flags to API parameters, results to tables, JSON, CSV, SVG and a design file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from rvbacklash.cli.app import app
+from rvbacklash.cli.common import (DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, QUIET_OPTION, SEED_OPTION, Format,
+                                   Outputs, command, csv_option, json_option, parse_samples, progress_bar,
+                                   stdout_console, workers_or_none)
+
+
+@app.command()
+@command
+def sensitivity(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    model: str = typer.Option("linear", "--model", help="linear | contact | elastic: the model whose output is "
+                                                        "attributed (each factor drawn from its own random stream)."),
+    output: Optional[str] = typer.Option(None, "--output", help="Output to attribute: backlash, lost_motion, "
+                                                                "rigidity, ... (default: the model's first)."),
+    samples: str = typer.Option("16384", "--samples", "-n", help="Units per sample set N, a power of two (the "
+                                                                 "model runs N (D + 2) times for D factors)."),
+    seed: int = SEED_OPTION,
+    json_out: Optional[Path] = json_option(),
+    csv_out: Optional[Path] = csv_option("the indices"),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the bar chart (first order beside total, "
+                                                             "95 % intervals) as SVG to FILE.", metavar="FILE"),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Global sensitivity: first-order and total Sobol indices per factor with 95 % bootstrap intervals."""
+    import rvbacklash.api as api
+    from rvbacklash.report.allocation_tables import print_sensitivity
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.report.sensitivity_plots import sobol_svg
+
+    n = parse_samples(samples)
+    out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
+    problem = api.prepare(design)
+    total = n * (int(problem.random_mask.sum()) + 2)
+    with progress_bar(total, what="model runs") as progress:
+        result = api.sensitivity(problem, model=model, output=output, samples=n, seed=seed, progress=progress)
+    data, rows = result.to_dict(), result.rows()
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
+                "--plot": lambda: sobol_svg(result)},
+               lambda: print_sensitivity(result, stdout_console()), data, rows)
+    if result.partial:
+        raise typer.Exit(130)
+
+
+@app.command()
+@command
+def allocate(
+    design: str = typer.Argument(..., help=DESIGN_HELP),
+    spec_arcmin: float = typer.Option(..., "--spec-arcmin", help="Spec (upper limit) of the model's primary "
+                                                                 "output: backlash, lost motion for the elastic "
+                                                                 "model [arcmin]."),
+    yield_target: float = typer.Option(..., "--yield", help="Target yield P: the share of units that must meet "
+                                                            "the spec, 0.5 < P < 1 (e.g. 0.99)."),
+    model: str = typer.Option("linear", "--model", help="linear (exact: MILP on the exact distribution) | contact | "
+                                                        "elastic (Monte-Carlo search with common random numbers)."),
+    spec_rigidity: Optional[float] = typer.Option(None, "--spec-rigidity-nm-per-arcmin",
+                                                  help="Also require torsional rigidity >= K [N m/arcmin] "
+                                                       "(models with a rigidity output)."),
+    spec_preload: Optional[float] = typer.Option(None, "--spec-preload-um",
+                                                 help="Also require the cycloid stage's preload <= P [um] (contact, "
+                                                      "elastic): without it, coarser parts can 'meet' a lost-motion "
+                                                      "spec by interference."),
+    write_design: Optional[Path] = typer.Option(None, "--write-design", metavar="FILE",
+                                                help="Write the chosen design (its grades set) as a TOML design "
+                                                     "file that simulate re-runs."),
+    json_out: Optional[Path] = json_option(),
+    csv_out: Optional[Path] = csv_option("the cost-yield Pareto front"),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the cost-yield Pareto front as SVG to FILE.",
+                                        metavar="FILE"),
+    samples: str = typer.Option("65536", "--samples", "-n", help="Samples per candidate (Monte-Carlo models)."),
+    seed: int = SEED_OPTION,
+    scheduler: str = typer.Option("inline", "--scheduler", help="Where Monte-Carlo candidates run: inline | local | "
+                                                                "the address of a Dask scheduler (tcp://host:8786)."),
+    workers: int = typer.Option(0, "--workers", help="Worker threads inline, worker processes on a local cluster "
+                                                     "(0 = all cores); results do not depend on it."),
+    fmt: Format = FORMAT_OPTION,
+    force: bool = FORCE_OPTION,
+    quiet: bool = QUIET_OPTION,
+) -> None:
+    """Tolerance allocation: the cheapest grade per part group that meets the spec at the target yield."""
+    import rvbacklash.api as api
+    from rvbacklash.report.allocation_plots import front_svg
+    from rvbacklash.report.allocation_tables import print_allocation
+    from rvbacklash.report.design_toml import design_toml
+    from rvbacklash.report.files import render_csv, render_json
+
+    n = parse_samples(samples)
+    threads = workers_or_none(workers)
+    out = Outputs(fmt, force, quiet, write_design=write_design, json=json_out, csv=csv_out, plot=plot)
+    problem = api.prepare(design)
+    with progress_bar(None if model == "linear" else 200, what="candidates") as progress:
+        result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
+                              spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload, samples=n,
+                              seed=seed, scheduler=scheduler, workers=threads, progress=progress)
+    data, rows = result.to_dict(), result.front_rows()
+    header = (f"Written by rvbacklash allocate ({problem.source}): {result.binding.constraint}, {result.model} model.\n"
+              f"Cost {result.cost:.6g} {result.unit}"
+              + (f" against {result.baseline.cost:.6g} for uniform grade {result.baseline.grade}"
+                 if result.baseline.cost is not None else "")
+              + f"; yield {result.yield_.fraction:.6f}.\n"
+              + (f"Re-run: rvbacklash simulate FILE --method exact --spec-arcmin {result.spec_arcmin:g}"
+                 if result.model == "linear" else
+                 f"Re-run: rvbacklash simulate FILE --model {result.model} --spec-arcmin {result.spec_arcmin:g} "
+                 f"-n {result.samples} --seed {result.seed}"
+                 + (f" --spec-rigidity-nm-per-arcmin {spec_rigidity:g}" if spec_rigidity is not None else "")
+                 + (f" --spec-preload-um {spec_preload:g}" if spec_preload is not None else "")))
+    out.finish({"--write-design": lambda: design_toml(result.design, header), "--json": lambda: render_json(data),
+                "--csv": lambda: render_csv(rows), "--plot": lambda: front_svg(result)},
+               lambda: print_allocation(result, stdout_console()), data, rows)
+    if result.partial:
+        raise typer.Exit(130)

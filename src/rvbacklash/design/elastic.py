@@ -1,0 +1,98 @@
+"""Inputs of the elastic hysteresis model (docs/elastic.md): the ``[elastic]`` table of a design.
+
+What the test bench needs to turn a unit's clearances into its torque-angle loop: the rated
+torque and the measuring points (lost motion at +-x % of it, rigidity over an interval of it),
+the materials and lengths of the line contacts (cycloid-pin, crank needle bearings), the mesh
+stiffness of the involute stage, the stiffnesses this model does not derive (main bearings,
+the rest of the structure) and a friction model.
+
+Defaults and their basis (every one can be overridden):
+
+- ``measuring_torque_fraction`` 0.03: Nabtesco's lost motion is read at +-3 % of the rated
+  torque (catalogue wording; other makers use 2-5 %).
+- ``rigidity_interval_fraction`` [0.5, 1.0]: our choice. Nabtesco calls the rigidity "b/a" on its
+  hysteresis figure; we read it as the secant of the loading branches over the upper half of the
+  rated torque, beyond the dead bands (the exact torque points of the catalogue figure are
+  unverified, see docs/elastic.md).
+- Young's modulus 206 GPa and Poisson's ratio 0.3: handbook values for hardened steel.
+- ``mesh_stiffness_n_per_mm_um`` 20: c_gamma of solid steel spur pairs (DIN 3990-1 / ISO 6336-1
+  approximation, c' ~ 14 N/(mm um) times (0.75 eps_alpha + 0.25) for eps_alpha ~ 1.6).
+- main-bearing and structure stiffness: None = rigid (not modelled; an assumption that makes the
+  predicted rigidity an upper bound: give them from FE or supplier data).
+- friction: 0 (the loading and unloading branches coincide); an assumption, not a measurement.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+
+class _Strict(BaseModel):
+    # same rules as every design table (design/schema.py): no coercion, no unknown keys
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, strict=True)
+
+
+class ElasticInputs(_Strict):
+    """The elastic model's inputs: test-bench torques, contact geometry, stiffnesses, friction."""
+
+    rated_torque_nm: float = Field(gt=0, le=1e6, description="rated output torque T_R [N m] (catalogue)")
+    measuring_torque_fraction: float = Field(
+        0.03, gt=0, lt=0.5, description="x: lost motion is read at +-x T_R [-] (Nabtesco: 0.03)")
+    rigidity_interval_fraction: list[float] = Field(
+        [0.5, 1.0], min_length=2, max_length=2,
+        description="[low, high] of T_R: torsional rigidity is the secant of the loading branches over it [-]")
+
+    disc_youngs_modulus_gpa: float = Field(206.0, gt=0, le=1000, description="Young's modulus of the discs [GPa]")
+    disc_poisson_ratio: float = Field(0.3, ge=0, lt=0.5, description="Poisson's ratio of the discs [-]")
+    pin_youngs_modulus_gpa: float = Field(206.0, gt=0, le=1000,
+                                          description="Young's modulus of the pins and needle rollers [GPa]")
+    pin_poisson_ratio: float = Field(0.3, ge=0, lt=0.5, description="Poisson's ratio of the pins and rollers [-]")
+    disc_face_width_mm: float = Field(gt=0, le=1000, description="face width of one cycloid disc [mm]")
+    pin_length_mm: float | None = Field(
+        None, gt=0, le=5000, description="pin length [mm]; each disc bears on min(face width, pin length / discs); "
+                                         "default: long enough")
+    contact_law: Literal["johnson", "palmgren"] = Field(
+        "johnson", description="line-contact approach: johnson (Hertz, Johnson's Contact Mechanics ch. 4, with the "
+                               "local radii of curvature) or palmgren (roller formula 3.84e-5 Q^0.9 / L^0.8)")
+    lever_arms: Literal["kinematic", "eq1"] = Field(
+        "kinematic", description="how the disc and crank-bearing deflections refer to the output: kinematic "
+                                 "(input locked: factor z_c / (z_p + z1/z2), docs/model.md) or eq1 (Eq. (1): a z_c, "
+                                 "as the linear and contact models)")
+
+    crank_bearing_rollers: int = Field(ge=3, le=200, description="needle rollers per crank (swivel-arm) bearing [-]")
+    crank_bearing_roller_diameter_mm: float = Field(gt=0, le=100, description="needle roller diameter D_w [mm]")
+    crank_bearing_roller_length_mm: float = Field(gt=0, le=500,
+                                                  description="effective needle roller length L_w [mm]")
+    crank_bearing_raceway_diameter_mm: float | None = Field(
+        None, gt=0, le=1000, description="inner raceway (eccentric) diameter [mm]; default crank_stage.bearing_bore_mm")
+
+    mesh_stiffness_n_per_mm_um: float = Field(
+        20.0, gt=0, le=1000, description="involute mesh stiffness c_gamma per face width [N/(mm um)] "
+                                         "(ISO 6336-1 / DIN 3990: about 20 for solid steel spur gears)")
+    main_bearing_stiffness_nm_per_arcmin: float | None = Field(
+        None, gt=0, le=1e9, description="torsional stiffness of the main bearings at the output [N m/arcmin]; "
+                                        "default: rigid (not modelled)")
+    structure_stiffness_nm_per_arcmin: float | None = Field(
+        None, gt=0, le=1e9, description="torsional stiffness of everything else in series (crankshafts, support "
+                                        "bearings, carrier, housing) [N m/arcmin]; default: rigid (not modelled)")
+
+    friction_torque_nm: float = Field(
+        0.0, ge=0, le=1e6, description="Coulomb friction torque at the output, constant part T_f0 [N m]")
+    friction_load_fraction: float = Field(
+        0.0, ge=0, lt=0.5, description="Coulomb friction torque proportional to the transmitted torque, "
+                                       "T_f = T_f0 + mu |T| [-]")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "ElasticInputs":
+        low, high = self.rigidity_interval_fraction
+        if not 0.0 <= low < high <= 1.0:
+            raise ValueError(f"rigidity_interval_fraction = [{low}, {high}]: allowed 0 <= low < high <= 1 "
+                             f"(fractions of rated_torque_nm)")
+        limit = self.rated_torque_nm * (1.0 - self.friction_load_fraction)
+        if not self.friction_torque_nm < limit:
+            raise ValueError(f"friction_torque_nm = {self.friction_torque_nm}: friction this large never lets the "
+                             f"output move; allowed friction_torque_nm < rated_torque_nm (1 - friction_load_fraction)"
+                             f" = {limit:g}")
+        return self

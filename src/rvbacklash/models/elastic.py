@@ -1,0 +1,690 @@
+"""The elastic hysteresis model: a unit's torque-angle loop as the test bench measures it
+(docs/elastic.md).
+
+Input locked, housing fixed, torque T on the output. The output angle is a chain of elements in
+series, each referred to the output:
+
+    theta(T) = theta_pins(T_el) + theta_crank(T_el) + theta_involute(T_el) + T_el / K_structure
+
+- **cycloid pins** (both discs in parallel, tied by the cranks: one rotation): contact j closes
+  by delta_j = (L_j / k) theta - g_j [um] (gap g_j and signed lever L_j of the contact model,
+  ``models.contact.linear_gaps_um``; k the lever factor, ``compliance.cycloid_lever_factor``);
+  its force F_j(delta_j) inverts the line-contact law; theta solves 1e-6 sum F_j L_j / k = T_el
+  (monotone in theta; preloaded units start in contact);
+- **crank (swivel-arm) needle bearings**: every bearing carries F = T_el k / (n a0); its rollers
+  (rollers at 2 pi i / Z, one on the load line) close by delta_r cos(psi_i) - G_r / 2 (radial
+  clearance G_r: the dead band); the disc turns delta_r / a0 against the carrier, the output k
+  times that;
+- **involute stage**: dead band b_1 (its backlash at the output) and stiffness K_1;
+- **structure**: main bearings and the rest, stated stiffnesses.
+
+Friction: a Coulomb torque T_f = T_f0 + mu |T_el| at the output in parallel with the chain
+(``compliance.elastic_torque_nm``). The loop's rising branch (load+ and unload-) and falling
+branch (load- and unload+) then differ; at the turning points the output sticks until the
+torque has changed by twice the friction.
+
+The core ``unit_hysteresis`` is a function of one unit's arrays (gaps and levers of every pin
+of every disc, its crank angle (the flank curvature at each pin), the involute backlash, the
+crank-bearing clearance) and of the design's ``Chain``; compiled with numba (nogil) for the
+Monte-Carlo.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from rvbacklash._numba import nb
+from rvbacklash.design.elastic import ElasticInputs
+from rvbacklash.errors import InputError
+from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
+from rvbacklash.geometry.cycloid import ContactGeometry
+from rvbacklash.models import compliance as cm
+from rvbacklash.models.contact import Realization, linear_gaps_um
+from rvbacklash.problem import Problem
+from rvbacklash.units import ARCMIN_PER_RAD
+
+ELEMENTS = ("cycloid_pins", "crank_bearings", "involute_stage", "structure")
+N_ELEMENTS = len(ELEMENTS)
+# unit_hysteresis fills out[0:N_FIGURES]: lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin],
+# then the lost motion of each element [arcmin] (they sum to the lost motion)
+LOST_MOTION, BACKLASH, RIGIDITY = 0, 1, 2
+N_FIGURES = 3 + N_ELEMENTS
+RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
+TINY_LEVER = 1e-3  # of the largest lever: a contact that cannot bound a rotation (set_bounds)
+LN_FORCE_GUESS = 6.0  # ln(400 N): start of the inversion of Johnson's law (pin and roller loads 10 N - 10 kN)
+
+
+class Chain(NamedTuple):
+    """Everything the kernels need besides the unit's own arrays (floats; numba takes it as is)."""
+
+    law_b: float  # contact law delta = F^n (a - b ln F) [um, N]: b and n, shared by every pin
+    law_n: float
+    johnson: float  # 1: per-pin a from the flank curvature (Johnson); 0: a = palmgren_a for every pin
+    palmgren_a: float
+    contact_length_mm: float
+    pin_radius_mm: float
+    generating_radius_mm: float
+    pin_circle_radius_mm: float
+    k1: float
+    pins: float
+    discs: float
+    pin_e_gpa: float
+    pin_nu: float
+    disc_e_gpa: float
+    disc_nu: float
+    lever_factor: float  # k: output rotation per disc rotation
+    involute_stiffness_nm_per_rad: float
+    structure_stiffness_nm_per_rad: float  # inf: rigid
+    bearing_force_n_per_nm: float  # radial load of one crank bearing per N m of T_el
+    bearing_angle_rad_per_um: float  # output rotation per um of radial bearing deflection
+    roller_a: float  # law of one roller between its raceways (two contacts in series)
+    roller_b: float
+    rollers_symmetric: float  # 1: an even number of rollers (a load and its mirror deflect alike)
+    rated_torque_nm: float
+    measuring_fraction: float
+    rigidity_low: float
+    rigidity_high: float
+    friction_nm: float
+    friction_fraction: float
+
+
+@dataclass(frozen=True)
+class ElasticModel:
+    """The elastic model of a design: resolved inputs (``chain``), roller layout, and what the
+    report says about them."""
+
+    inputs: ElasticInputs
+    geometry: ContactGeometry
+    chain: Chain
+    roller_cos: np.ndarray  # cos(psi_i) of the rollers of one crank bearing
+    bearings: int  # crank needle bearings carrying the disc torque (discs x cranks)
+    crank_circle_radius_mm: float
+    raceway_diameter_mm: float
+
+    @property
+    def lever_factor(self) -> float:
+        return self.chain.lever_factor
+
+    @property
+    def involute_stiffness_nm_per_arcmin(self) -> float:
+        return self.chain.involute_stiffness_nm_per_rad / ARCMIN_PER_RAD
+
+    @property
+    def structure_stiffness_nm_per_arcmin(self) -> float:
+        return self.chain.structure_stiffness_nm_per_rad / ARCMIN_PER_RAD
+
+
+def elastic_model(problem: Problem) -> ElasticModel:
+    """Resolve the design's [elastic] table into the kernels' parameters (docs/elastic.md)."""
+    design = problem.design
+    e = design.elastic
+    if e is None:
+        raise InputError("elastic", None, "allowed: an [elastic] table in the design with at least rated_torque_nm, "
+                                          "disc_face_width_mm and the crank bearing's rollers (docs/elastic.md)")
+    g = problem.cycloid
+    s1, s2 = design.first_stage, design.second_stage
+    if s1.face_width_mm is None:
+        raise InputError("first_stage.face_width_mm", None, "required by the elastic model (involute mesh "
+                                                            "stiffness); allowed: face width b [mm]")
+    raceway = e.crank_bearing_raceway_diameter_mm or design.crank_stage.bearing_bore_mm
+    if raceway is None:
+        raise InputError("elastic.crank_bearing_raceway_diameter_mm", None,
+                         "required when crank_stage.bearing_bore_mm is not given; allowed: diameter [mm]")
+    length = e.disc_face_width_mm if e.pin_length_mm is None else min(e.disc_face_width_mm, e.pin_length_mm / g.discs)
+    k = cm.cycloid_lever_factor(s2.cycloid_teeth, s2.pins, s1.centre_gear_teeth, s1.planet_teeth,
+                                e.lever_arms == "kinematic")
+    geo = problem.geometry
+    k_inv = cm.mesh_torsional_stiffness_nm_per_rad(e.mesh_stiffness_n_per_mm_um, s1.face_width_mm,
+                                                   geo.centre_gear_pitch_radius_mm, geo.ratio, s1.planets,
+                                                   geo.pressure_angle_deg)
+    k_struct = cm.series_stiffness(*(x * ARCMIN_PER_RAD for x in (e.main_bearing_stiffness_nm_per_arcmin,
+                                                                   e.structure_stiffness_nm_per_arcmin)
+                                     if x is not None))
+    a0 = geo.crank_circle_radius_mm
+    bearings = g.discs * s1.planets
+    dw, lw = e.crank_bearing_roller_diameter_mm, e.crank_bearing_roller_length_mm
+    johnson = e.contact_law == "johnson"
+    if johnson:
+        inner = cm.capped_relative_radius_mm(dw / 2, raceway / 2, cm.RELATIVE_RADIUS_CAP * dw / 2)
+        outer = cm.capped_relative_radius_mm(dw / 2, -(raceway / 2 + dw), cm.RELATIVE_RADIUS_CAP * dw / 2)
+        roller_a = (cm.johnson_law_a_um_per_n(lw, dw / 2, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio, raceway / 2,
+                                              e.disc_youngs_modulus_gpa, e.disc_poisson_ratio, inner)
+                    + cm.johnson_law_a_um_per_n(lw, dw / 2, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio,
+                                                raceway / 2 + dw, e.disc_youngs_modulus_gpa, e.disc_poisson_ratio,
+                                                outer))
+        b1 = cm.johnson_law_b_um_per_n(lw, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio, e.disc_youngs_modulus_gpa,
+                                       e.disc_poisson_ratio)
+        roller_b, law_b, law_n = 2.0 * b1, cm.johnson_law_b_um_per_n(
+            length, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio, e.disc_youngs_modulus_gpa, e.disc_poisson_ratio), 1.0
+    else:
+        roller_a, roller_b = 2.0 * cm.palmgren_law_a(lw), 0.0
+        law_b, law_n = 0.0, cm.PALMGREN_EXPONENT
+    low, high = e.rigidity_interval_fraction
+    chain = Chain(
+        law_b=law_b, law_n=law_n, johnson=1.0 if johnson else 0.0, palmgren_a=cm.palmgren_law_a(length),
+        contact_length_mm=length, pin_radius_mm=g.rrp_mm,
+        generating_radius_mm=g.rrp_mm + s2.equidistance_modification_um * 1e-3, pin_circle_radius_mm=g.rp_mm,
+        k1=g.K1, pins=float(g.zp), discs=float(g.discs), pin_e_gpa=e.pin_youngs_modulus_gpa, pin_nu=e.pin_poisson_ratio,
+        disc_e_gpa=e.disc_youngs_modulus_gpa, disc_nu=e.disc_poisson_ratio, lever_factor=k,
+        involute_stiffness_nm_per_rad=k_inv, structure_stiffness_nm_per_rad=k_struct,
+        bearing_force_n_per_nm=k * 1e3 / (bearings * a0), bearing_angle_rad_per_um=k * 1e-3 / a0,
+        roller_a=roller_a, roller_b=roller_b, rollers_symmetric=1.0 if e.crank_bearing_rollers % 2 == 0 else 0.0,
+        rated_torque_nm=e.rated_torque_nm,
+        measuring_fraction=e.measuring_torque_fraction, rigidity_low=float(low), rigidity_high=float(high),
+        friction_nm=e.friction_torque_nm, friction_fraction=e.friction_load_fraction)
+    psi = 2 * math.pi * np.arange(e.crank_bearing_rollers) / e.crank_bearing_rollers
+    return ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
+
+
+# --- the contact law and a set of contacts -----------------------------------------------------
+
+@nb.njit(nogil=True, cache=True)
+def law_step(delta_um, a, b, n, f0):
+    """One step towards the force of a contact closed by delta > 0 under delta = F^n (a - b ln F):
+    (F [N], dF/ddelta [N/um], bound of F's relative error after the step).
+
+    Palmgren (b = 0): the closed form, error 0. Johnson (n = 1): one Newton step on
+    phi(F) = F (a - b ln F) - delta from f0 (e.g. the contact's force at the previous evaluation),
+    or from the estimate delta / (a - b LN_FORCE_GUESS) when f0 is not positive or not below
+    delta / (2 b). phi is concave (phi'' = -b/F): from the left the iterates rise monotonically to
+    the root; from the right they land left of it, and stay positive for starts below delta / b.
+    After a step s the relative error is b / (2 (g - b)) (s/F)^2 (g = a - b ln F), the bound
+    returned. Johnson's formula stops increasing at ln F = a/b - 1 (half-width ~ radius: far
+    outside its validity); beyond ln F_lim = a/b - 2, where d(delta)/dF = b, it is continued by
+    that tangent so that every closure has one force (only brackets get there)."""
+    if b == 0.0:
+        f = (delta_um / a) ** (1.0 / n)
+        return f, f / (n * delta_um), 0.0
+    if 0.0 < f0 < 0.5 * delta_um / b:
+        f = f0
+    else:
+        f = delta_um / max(a - b * LN_FORCE_GUESS, 2.0 * b)
+    g = a - b * math.log(f)
+    if g < 2.5 * b:  # near the end of the formula's range
+        flim = math.exp(a / b - 2.0)
+        dlim = 2.0 * b * flim
+        if delta_um >= dlim:
+            return flim + (delta_um - dlim) / b, 1.0 / b, 0.0
+        f = min(f, 0.75 * flim)
+        g = a - b * math.log(f)
+    inv = 1.0 / (g - b)
+    step = (f * g - delta_um) * inv
+    if step >= f:  # keep the iterate positive (cannot happen from the starts above; a guard)
+        step = 0.5 * f
+    r = step / f
+    return f - step, inv, 0.5 * b * inv * r * r
+
+
+@nb.njit(nogil=True, cache=True)
+def law_force(delta_um, a, b, n, f0):
+    """(F [N], dF/ddelta [N/um]) of a contact closed by delta > 0: ``law_step`` to convergence."""
+    f, df, err = law_step(delta_um, a, b, n, f0)
+    for _ in range(60):
+        if err < 1e-15:
+            break
+        f, df, err = law_step(delta_um, a, b, n, f)
+    return f, df
+
+
+@nb.njit(nogil=True, cache=True)
+def set_load(x, gaps, levers, law_a, b, n, scale, m, work):
+    """(load, dload/dx, bound of the load's error, scale sum |F_j levers_j|) of the first m contacts
+    of a set at x: contact j closes by delta_j = levers_j x - gaps_j and pushes back with
+    F_j(delta_j) (``law_step`` from work[j], its force at the previous evaluation, until the error
+    bound is below 1e-13; 0 when open); load = scale sum F_j levers_j."""
+    g = 0.0
+    dg = 0.0
+    err = 0.0
+    gabs = 0.0
+    for j in range(m):
+        d = levers[j] * x - gaps[j]
+        if d > 0.0:
+            f, df, e = law_step(d, law_a[j], b, n, work[j])
+            for _ in range(30):  # settle: quadratic once close, 1-3 steps from a warm start
+                if e <= 1e-13:
+                    break
+                f, df, e = law_step(d, law_a[j], b, n, f)
+            work[j] = f
+            fl = f * abs(levers[j])
+            g += f * levers[j]
+            dg += df * levers[j] * levers[j]
+            err += e * fl
+            gabs += fl
+        else:
+            work[j] = 0.0
+    return g * scale, dg * scale, err * scale, gabs * scale
+
+
+@nb.njit(nogil=True, cache=True)
+def set_bounds(gaps, levers, m, out):
+    """out = [hi, j_hi, lo, j_lo, tiny]: the first contact turning positive (smallest gap/lever over
+    lever > 0) and negative (largest over lever < 0). hi >= lo: free between them; hi < lo:
+    preloaded (no coordinate frees every contact). Contacts whose lever is below TINY_LEVER of the
+    largest (pins facing a tooth tip or root) cannot bound a rotation: left out; tiny = 1 when one
+    of them interferes (it pushes at every rotation, with a torque too small to matter, and the
+    solver then checks its brackets)."""
+    big = 0.0
+    for j in range(m):
+        big = max(big, abs(levers[j]))
+    small = TINY_LEVER * big
+    hi = np.inf
+    lo = -np.inf
+    jhi = -1
+    jlo = -1
+    tiny = 0.0
+    for j in range(m):
+        if abs(levers[j]) <= small:
+            if gaps[j] < 0.0:
+                tiny = 1.0
+            continue
+        r = gaps[j] / levers[j]
+        if levers[j] > 0.0:
+            if r < hi:
+                hi = r
+                jhi = j
+        elif r > lo:
+            lo = r
+            jlo = j
+    out[0] = hi
+    out[1] = jhi
+    out[2] = lo
+    out[3] = jlo
+    out[4] = tiny
+
+
+@nb.njit(nogil=True, cache=True)
+def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess):
+    """The coordinate x at which the contact set carries ``load`` (its sign: the direction).
+    load = 0: the edge of the free band on ``side`` (+1: the positive edge), or the preloaded
+    equilibrium. ``guess``: a start inside the bracket (NaN: none).
+
+    Bracket (load > 0; mirrored for load < 0): at the first contact hi the loaded side is still
+    free, so load(hi) <= 0. The contact with the largest lever L alone carries the load once it
+    has closed by delta(load / (scale L)), at x_t; beyond lo nothing pulls back; so
+    load(max(lo, x_t)) >= load. Newton inside the bracket, bisection when a step leaves it. The
+    contacts' forces are refined along (one ``law_step`` per evaluation); the bracket moves only
+    where the load's error bound cannot flip the sign of the residual, else the forces settle in
+    place. Stops when the residual and its error bound are below 1e-11 of the load (or of the
+    contacts' loads, at a preloaded equilibrium)."""
+    hi, lo = bounds[0], bounds[2]
+    if load == 0.0:
+        if lo <= hi:
+            return hi if side > 0 else lo
+        xl, xh = hi, lo
+    else:
+        jm = 0
+        for j in range(m):  # the largest lever on the loaded side
+            if levers[j] * load > levers[jm] * load:
+                jm = j
+        lev = abs(levers[jm])
+        dx = cm.law_approach_um(abs(load) / (scale * lev), law_a[jm], b, n) / lev
+        if load > 0.0:
+            xl, xt = hi, gaps[jm] / levers[jm] + dx
+            xh = max(lo, xt)
+        else:
+            xh, xt = lo, gaps[jm] / levers[jm] - dx
+            xl = min(hi, xt)
+        if not math.isfinite(guess) and xl < xt < xh:  # preloaded: try the tighter end first
+            guess = xt
+    if bounds[4] != 0.0:  # interfering tip/root contacts: make sure the bracket holds the root
+        width = max(xh - xl, 1e-12)
+        for _ in range(80):
+            if set_load(xl, gaps, levers, law_a, b, n, scale, m, work)[0] <= load:
+                break
+            xl -= width
+            width *= 2.0
+        width = max(xh - xl, 1e-12)
+        for _ in range(80):
+            if set_load(xh, gaps, levers, law_a, b, n, scale, m, work)[0] >= load:
+                break
+            xh += width
+            width *= 2.0
+    if math.isfinite(guess) and xl < guess < xh:
+        x = guess
+    else:
+        x = xh if load > 0.0 else (xl if load < 0.0 else 0.5 * (xl + xh))
+    tol = 1e-13 * (abs(xl) + abs(xh)) + 1e-300
+    for _ in range(300):
+        g, dg, err, gabs = set_load(x, gaps, levers, law_a, b, n, scale, m, work)
+        f = g - load
+        ftol = 1e-11 * max(abs(load), gabs)
+        if err <= ftol and abs(f) <= ftol:
+            return x
+        trusted = abs(f) > 2.0 * err  # the sign of f is right: the bracket may move
+        if trusted:
+            if f > 0.0:
+                xh = x
+            else:
+                xl = x
+        xn = x - f / dg if dg > 0.0 else xl - 1.0
+        if not (xl < xn < xh):  # bisect on trusted loads; else settle the forces where we are
+            xn = 0.5 * (xl + xh) if trusted else x
+        if err <= ftol and abs(xn - x) <= tol:
+            return xn
+        x = xn
+    return x
+
+
+# --- one unit ----------------------------------------------------------------------------------
+
+BOUND_CONTACTS = 6  # pins assumed to share +-T_R when bounding the rotation (prepare_pins)
+
+
+@nb.njit(nogil=True, cache=True)
+def pin_law_a(phi, c):
+    """Coefficient a of pin j's contact law [um/N^n] at phase phi = psi_j - chi_d: Johnson's
+    approach with the relative radius of the pin and the flank (``flank_radius_mm`` of
+    ``pin_centre_curve_radius_mm``); the flank's body radius is its radius of curvature, at most
+    r_p where the flank is nearly straight. Palmgren: the same for every pin."""
+    if c.johnson == 0.0:
+        return c.palmgren_a
+    rho = cm.flank_radius_mm(cm.pin_centre_curve_radius_mm(phi, c.pin_circle_radius_mm, c.k1, c.pins),
+                             c.generating_radius_mm)
+    r_rel = cm.capped_relative_radius_mm(c.pin_radius_mm, rho, cm.RELATIVE_RADIUS_CAP * c.pin_radius_mm)
+    body = min(abs(rho), c.pin_circle_radius_mm)
+    return cm.johnson_law_a_um_per_n(c.contact_length_mm, c.pin_radius_mm, c.pin_e_gpa, c.pin_nu, body,
+                                     c.disc_e_gpa, c.disc_nu, r_rel)
+
+
+@nb.njit(nogil=True, cache=True)
+def pin_phase(index, chi, zp, discs):
+    """Phase phi = psi_j - chi_d [rad] of the pin at flat index d z_p + j."""
+    d = index // zp
+    j = index - d * zp
+    return 2.0 * math.pi * j / zp - (chi + 2.0 * math.pi * d / discs)
+
+
+@nb.njit(nogil=True, cache=True)
+def fill_pin_law(chi, c, out):
+    """pin_law_a of every pin of every disc at crank angle chi [rad] into out (discs, z_p)."""
+    discs, zp = out.shape
+    for d in range(discs):
+        for j in range(zp):
+            out[d, j] = pin_law_a(pin_phase(d * zp + j, chi, zp, discs), c)
+
+
+@nb.njit(nogil=True, cache=True)
+def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
+    """A rotation beyond the one at which the pins carry ``load`` (+-T_R): the BOUND_CONTACTS pins
+    with the largest levers on the loaded side carry it alone at x_S; beyond the other side's last
+    release nothing pulls back; so max(x_S, lo) (load > 0) bounds the rotation."""
+    m = g.size
+    k = min(BOUND_CONTACTS, m)
+    idx = np.full(k, -1)
+    for j in range(m):  # the k largest levers on the loaded side (insertion into a short list)
+        v = lev[j] * load
+        if v <= 0.0:
+            continue
+        pos = k
+        while pos > 0 and (idx[pos - 1] < 0 or lev[idx[pos - 1]] * load < v):
+            pos -= 1
+        if pos < k:
+            for q in range(k - 1, pos, -1):
+                idx[q] = idx[q - 1]
+            idx[pos] = j
+    cnt = 0
+    for q in range(k):
+        if idx[q] >= 0:
+            cnt += 1
+    sg = np.empty(cnt)
+    sl = np.empty(cnt)
+    sa = np.empty(cnt)
+    for q in range(cnt):
+        sg[q] = g[idx[q]]
+        sl[q] = lev[idx[q]]
+        sa[q] = pin_law_a(pin_phase(idx[q], chi, zp, discs), c)
+    sb = np.empty(5)
+    set_bounds(sg, sl, cnt, sb)
+    x = solve_set(sg, sl, sa, c.law_b, c.law_n, 1e-6, cnt, sb, np.zeros(cnt), load, 1.0, np.nan)
+    return max(x, bounds[2]) if load > 0.0 else min(x, bounds[0])
+
+
+@nb.njit(nogil=True, cache=True)
+def prepare_pins(gap_um, lever_um_per_rad, chi, c):
+    """The unit's pin contacts referred to the output (levers / k), reduced to those that close
+    somewhere between the rotations at -T_R and +T_R (bounded by ``_pins_bound``), with their
+    contact-law coefficients and bounds: (gaps, levers, law_a, count, bounds, work)."""
+    discs, zp = gap_um.shape
+    g = gap_um.ravel()
+    lev = lever_um_per_rad.ravel() / c.lever_factor
+    m = g.size
+    bounds = np.empty(5)
+    set_bounds(g, lev, m, bounds)
+    x_hi = _pins_bound(g, lev, chi, zp, discs, bounds, c, c.rated_torque_nm)
+    x_lo = _pins_bound(g, lev, chi, zp, discs, bounds, c, -c.rated_torque_nm)
+    keep = 0
+    gk = np.empty(m)
+    lk = np.empty(m)
+    ak = np.empty(m)
+    for j in range(m):
+        if lev[j] * x_hi - g[j] > 0.0 or lev[j] * x_lo - g[j] > 0.0:
+            gk[keep] = g[j]
+            lk[keep] = lev[j]
+            ak[keep] = pin_law_a(pin_phase(j, chi, zp, discs), c)
+            keep += 1
+    set_bounds(gk, lk, keep, bounds)
+    return gk, lk, ak, keep, bounds, np.zeros(keep)
+
+
+@nb.njit(nogil=True, cache=True)
+def prepare_rollers(crank_clearance_um, roller_cos, c):
+    """One crank bearing's rollers: gap G_r / 2 each, lever cos(psi_i): (gaps, levers, law_a, count,
+    bounds, work)."""
+    z = roller_cos.size
+    g = np.full(z, 0.5 * crank_clearance_um)
+    la = np.full(z, c.roller_a)
+    bounds = np.empty(5)
+    set_bounds(g, roller_cos, z, bounds)
+    return g, roller_cos, la, z, bounds, np.zeros(z)
+
+
+@nb.njit(nogil=True, cache=True)
+def chain_angles(t_el, side, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, out):
+    """Output angle of each element [rad] (ELEMENTS order) when the chain carries t_el [N m];
+    at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state`` (6,): the
+    last pins and rollers solutions for positive and negative loads, starts for the next solve
+    (NaN: none), then the last rollers' load and deflection (the roller layout is symmetric when
+    their number is even: a mirrored load needs no solve); updated."""
+    s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
+    k = 0 if s > 0.0 else 2
+    x = solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, t_el, s, state[k])
+    load = t_el * c.bearing_force_n_per_nm
+    if c.rollers_symmetric != 0.0 and load != 0.0 and abs(load) == state[4]:
+        dr = s * state[5]  # an even number of rollers, one on the load line: the mirror of the last solve
+    else:
+        dr = solve_set(rg, rl, ra, c.roller_b, c.law_n, 1.0, rm, rb, rw, load, s, state[k + 1])
+        state[4] = abs(load)
+        state[5] = abs(dr)
+    if t_el != 0.0:
+        state[k] = x
+        state[k + 1] = dr
+    out[0] = x
+    out[1] = dr * c.bearing_angle_rad_per_um
+    out[2] = 0.5 * s * backlash1_rad + t_el / c.involute_stiffness_nm_per_rad
+    out[3] = t_el / c.structure_stiffness_nm_per_rad
+
+
+@nb.njit(nogil=True, cache=True)
+def branch_angles(torque_nm, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, out):
+    """Element angles [rad] on the rising (RISE: load+, unload-) or falling (FALL: load-, unload+)
+    branch at applied torque T, in the steady loop 0 -> +T_R -> 0 -> -T_R -> 0: the output sticks
+    at the turning point until friction is overcome; where the chain's torque passes 0 the value
+    is the end the branch arrives from (the jump through the dead bands follows)."""
+    tr = c.rated_torque_nm
+    tf, mu = c.friction_nm, c.friction_fraction
+    if branch == RISE:
+        stick = cm.applied_torque_nm(cm.elastic_torque_nm(-tr, False, tf, mu), True, tf, mu)
+        if torque_nm < stick:  # still held where the falling branch left it at -T_R
+            chain_angles(cm.elastic_torque_nm(-tr, False, tf, mu), 1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb,
+                         rw, backlash1_rad, c, state, out)
+        else:
+            chain_angles(cm.elastic_torque_nm(torque_nm, True, tf, mu), -1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm,
+                         rb, rw, backlash1_rad, c, state, out)
+    else:
+        stick = cm.applied_torque_nm(cm.elastic_torque_nm(tr, True, tf, mu), False, tf, mu)
+        if torque_nm > stick:
+            chain_angles(cm.elastic_torque_nm(tr, True, tf, mu), -1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw,
+                         backlash1_rad, c, state, out)
+        else:
+            chain_angles(cm.elastic_torque_nm(torque_nm, False, tf, mu), 1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm,
+                         rb, rw, backlash1_rad, c, state, out)
+
+
+@nb.njit(nogil=True, cache=True)
+def loop_figures(pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, out):
+    """The test-bench figures of a prepared unit into out[0:N_FIGURES] (module docstring):
+
+        lost motion = 1/2 [theta(+x T_R, load) + theta(+x T_R, unload)] - 1/2 [theta(-x T_R, load) + theta(-x T_R, unload)]
+        backlash    = theta(0, unload+) - theta(0, unload-)           (the loop's width at zero torque)
+        rigidity    = 2 (h - l) T_R / ([theta(h T_R) - theta(l T_R)]_load+ + [theta(-l T_R) - theta(-h T_R)]_load-)
+
+    [arcmin, arcmin, N m/arcmin], then the lost motion of each element [arcmin]. The points are
+    evaluated from small to large torques so that each solve starts from the previous one, a
+    torque and its mirror in turn (the rollers' solve is shared)."""
+    tr = c.rated_torque_nm
+    xt = c.measuring_fraction * tr
+    a = np.empty(N_ELEMENTS)
+    state = np.full(6, np.nan)
+    branch_angles(0.0, FALL, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+    width = a.sum()
+    branch_angles(0.0, RISE, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+    width -= a.sum()
+    lm = np.zeros(N_ELEMENTS)
+    for torque, branch, w in ((xt, RISE, 0.5), (-xt, FALL, -0.5), (xt, FALL, 0.5), (-xt, RISE, -0.5)):
+        branch_angles(torque, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+        for e in range(N_ELEMENTS):
+            lm[e] += w * a[e]
+    span = 0.0
+    for torque, branch, w in ((c.rigidity_low * tr, RISE, -1.0), (-c.rigidity_low * tr, FALL, 1.0),
+                              (c.rigidity_high * tr, RISE, 1.0), (-c.rigidity_high * tr, FALL, -1.0)):
+        branch_angles(torque, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+        span += w * a.sum()
+    out[LOST_MOTION] = lm.sum() * ARCMIN_PER_RAD
+    out[BACKLASH] = width * ARCMIN_PER_RAD
+    out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (span * ARCMIN_PER_RAD) if span > 0.0 else np.inf
+    for e in range(N_ELEMENTS):
+        out[3 + e] = lm[e] * ARCMIN_PER_RAD
+
+
+@nb.njit(nogil=True, cache=True)
+def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out):
+    """The test-bench figures of one unit (``loop_figures``) from its arrays:
+
+    gap_um[d, j]: free gap of pin j to disc d at zero rotation, normal to the profile [um]
+    (negative: interference); lever_um_per_rad[d, j]: signed lever, gap(beta) = gap - lever beta
+    for a disc rotation beta about its centre [um/rad]; chi_rad: the unit's crank angle (pin j of
+    disc d sits at phase 2 pi j / z_p - chi - 2 pi d / discs: it sets the flank curvature of each
+    contact); involute_backlash_rad: the involute stage's backlash at the output [rad] (negative
+    read as 0); crank_clearance_um: radial clearance G_r of the crank needle bearings [um]
+    (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i)."""
+    pg, pl, pa, pm, pb, pw = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c)
+    rg, rl, ra, rm, rb, rw = prepare_rollers(crank_clearance_um, roller_cos, c)
+    loop_figures(pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, max(involute_backlash_rad, 0.0), c, out)
+
+
+@nb.njit(nogil=True, cache=True)
+def evaluate_units(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out):
+    """``unit_hysteresis`` of n units: gap_um and lever_um_per_rad (n, discs, z_p), the rest (n,);
+    out (3, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin]."""
+    fig = np.empty(N_FIGURES)
+    for i in range(gap_um.shape[0]):
+        unit_hysteresis(gap_um[i], lever_um_per_rad[i], chi_rad[i], involute_backlash_rad[i], crank_clearance_um[i],
+                        c, roller_cos, fig)
+        out[0, i] = fig[LOST_MOTION]
+        out[1, i] = fig[BACKLASH]
+        out[2, i] = fig[RIGIDITY]
+
+
+# --- Python side: one unit, its loop ------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ElasticUnit:
+    """One unit as the elastic model sees it (the arrays of ``unit_hysteresis``)."""
+
+    gap_um: np.ndarray  # (discs, z_p)
+    lever_um_per_rad: np.ndarray  # (discs, z_p)
+    chi_rad: float
+    involute_backlash_rad: float
+    crank_clearance_um: float
+
+
+def other_stages_nominal(problem: Problem) -> tuple[float, float]:
+    """(involute backlash at the output [rad], crank-bearing radial clearance [um]) of the nominal
+    unit: the linear model's stage-1 mean (Eq. (1), exact lever i r_1; negative read as 0) and
+    the zone mean of factor 20."""
+    mask = problem.stage_mask(Stage.INVOLUTE)
+    stage1 = float(problem.sensitivities_arcmin_per_um[mask] @ problem.means_um[mask])
+    return max(stage1, 0.0) / ARCMIN_PER_RAD, float(problem.means_um[FACTOR_KEYS.index("crank_bearing_clearance")])
+
+
+def unit_from_realization(problem: Problem, r: Realization, involute_backlash_rad: float,
+                          crank_clearance_um: float) -> ElasticUnit:
+    """The elastic model's view of a contact-model realisation (``linear_gaps_um`` of every disc)."""
+    g = problem.cycloid
+    gaps, levers = zip(*(linear_gaps_um(g, r, d) for d in range(g.discs)))
+    return ElasticUnit(np.ascontiguousarray(np.stack(gaps)), np.ascontiguousarray(np.stack(levers)),
+                       float(r.chi_rad), float(involute_backlash_rad), float(crank_clearance_um))
+
+
+def nominal_realization(problem: Problem, chi_rad: float = 0.0) -> Realization:
+    """The designed unit: nominal modifications, pin/hole clearance at its zone mean (as
+    ``analysis.contact.nominal_contact``)."""
+    s2 = problem.design.second_stage
+    clearance = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
+    return Realization.nominal(problem.cycloid, s2.equidistance_modification_um, s2.moving_distance_modification_um,
+                               clearance, chi_rad)
+
+
+def nominal_unit(problem: Problem, chi_rad: float = 0.0) -> ElasticUnit:
+    return unit_from_realization(problem, nominal_realization(problem, chi_rad), *other_stages_nominal(problem))
+
+
+class PreparedUnit:
+    """A unit prepared for repeated evaluation (loops, tables): the compiled functions' arrays."""
+
+    def __init__(self, model: ElasticModel, unit: ElasticUnit):
+        self.model, self.unit = model, unit
+        c = model.chain
+        law = np.empty(unit.gap_um.shape)
+        fill_pin_law(unit.chi_rad, c, law)
+        self.law_a = law
+        self.pins = prepare_pins(unit.gap_um, unit.lever_um_per_rad, float(unit.chi_rad), c)
+        self.rollers = prepare_rollers(unit.crank_clearance_um, model.roller_cos, c)
+        self.b1 = max(unit.involute_backlash_rad, 0.0)
+
+    def figures(self) -> np.ndarray:
+        out = np.empty(N_FIGURES)
+        loop_figures(*self.pins, *self.rollers, self.b1, self.model.chain, out)
+        return out
+
+    def branch(self, torque_nm: float, branch: int) -> np.ndarray:
+        """Element angles [rad] on a branch (``branch_angles``)."""
+        out = np.empty(N_ELEMENTS)
+        branch_angles(float(torque_nm), branch, *self.pins, *self.rollers, self.b1, self.model.chain,
+                      np.full(6, np.nan), out)
+        return out
+
+    def chain(self, elastic_torque_nm: float, side: float) -> np.ndarray:
+        """Element angles [rad] at a chain torque (``chain_angles``), e.g. both edges of the dead bands."""
+        out = np.empty(N_ELEMENTS)
+        chain_angles(float(elastic_torque_nm), float(side), *self.pins, *self.rollers, self.b1, self.model.chain,
+                     np.full(6, np.nan), out)
+        return out
+
+    def pin_closures_um(self, pins_angle_rad: float) -> np.ndarray:
+        """Closure lever theta - gap of every pin of every disc [um] (> 0: in contact)."""
+        u = self.unit
+        return u.lever_um_per_rad / self.model.chain.lever_factor * pins_angle_rad - u.gap_um
+
+    def pin_forces_n(self, pins_angle_rad: float) -> np.ndarray:
+        """Force of every pin of every disc [N] at the pins' output angle."""
+        c = self.model.chain
+        d = self.pin_closures_um(pins_angle_rad)
+        f = np.zeros_like(d)
+        for idx in zip(*np.nonzero(d > 0)):
+            f[idx] = law_force(float(d[idx]), float(self.law_a[idx]), c.law_b, c.law_n, 0.0)[0]
+        return f

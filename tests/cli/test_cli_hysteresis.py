@@ -1,0 +1,88 @@
+"""`rvbacklash hysteresis` and `simulate --model elastic` end to end."""
+
+import json
+
+import pytest
+
+from helpers import one_line_error, run_cli
+
+
+def test_hysteresis_json_plot_and_table(tmp_path):
+    out, svg, csv_out = tmp_path / "h.json", tmp_path / "loop.svg", tmp_path / "loop.csv"
+    p = run_cli("hysteresis", "rv80e", "--json", out, "--plot", svg, "--csv", csv_out)
+    assert p.returncode == 0, p.stderr
+    for text in ("lost motion", "backlash", "torsional rigidity", "pins in contact at +T_R", "cycloid pins"):
+        assert text in p.stdout
+    d = json.loads(out.read_text())
+    for key in ("rated_torque_nm", "measuring_torque_fraction", "rigidity_interval_fraction", "lost_motion_arcmin",
+                "backlash_arcmin", "torsional_rigidity_nm_per_arcmin"):
+        assert key in d
+    assert d["rated_torque_nm"] == 784.0 and d["measuring_torque_fraction"] == 0.03
+    assert [b["branch"] for b in d["loop"]] == ["load+", "unload+", "load-", "unload-"]
+    assert set(d["loop"][0]) == {"branch", "torque_nm", "angle_arcmin"}
+    # the definitions, recomputed from the loop (np.interp is exact at the nodes the definitions read)
+    import numpy as np
+
+    def at(name, t):
+        b = next(b for b in d["loop"] if b["branch"] == name)
+        tt, aa = np.array(b["torque_nm"]), np.array(b["angle_arcmin"])
+        order = np.argsort(tt, kind="stable")
+        return float(np.interp(t, tt[order], aa[order]))
+
+    tr, x = d["rated_torque_nm"], d["measuring_torque_fraction"] * d["rated_torque_nm"]
+    lm = 0.5 * (at("load+", x) + at("unload+", x)) - 0.5 * (at("load-", -x) + at("unload-", -x))
+    assert lm == pytest.approx(d["lost_motion_arcmin"], rel=1e-9)
+    lo, hi = (v * tr for v in d["rigidity_interval_fraction"])
+    k = 2 * (hi - lo) / ((at("load+", hi) - at("load+", lo)) + (at("load-", -lo) - at("load-", -hi)))
+    assert k == pytest.approx(d["torsional_rigidity_nm_per_arcmin"], rel=1e-9)
+    assert svg.read_text().lstrip().startswith(("<?xml", "<svg"))
+    rows = csv_out.read_text().splitlines()
+    assert rows[0] == "branch,torque_nm,angle_arcmin" and len(rows) == 1 + sum(len(b["torque_nm"]) for b in d["loop"])
+
+
+def test_hysteresis_errors_name_the_flag_or_field(tmp_path):
+    one_line_error(run_cli("hysteresis", "sun2014"), "error: elastic")
+    one_line_error(run_cli("hysteresis", "rv80e", "--points", "1"), "error: --points")
+    one_line_error(run_cli("hysteresis", "rv80e", "--unit", "0"), "error: --unit")
+    one_line_error(run_cli("hysteresis", "rv80e", "--measured", tmp_path / "none.toml"), "error: --measured")
+
+
+def test_simulate_elastic_with_both_specs(tmp_path):
+    out = tmp_path / "s.json"
+    p = run_cli("simulate", "rv80e", "--model", "elastic", "-n", "2000", "--seed", "4", "--spec-lost-motion-arcmin",
+                "1", "--spec-rigidity-nm-per-arcmin", "1200", "--json", out)
+    assert p.returncode == 0, p.stderr
+    d = json.loads(out.read_text())
+    assert list(d["outputs"]) == ["lost_motion", "backlash", "rigidity", "preload"]
+    assert d["outputs"]["lost_motion"]["spec_limit"] == 1.0 and d["outputs"]["rigidity"]["spec_limit"] == 1200.0
+    assert d["outputs"]["rigidity"]["spec_is_upper"] is False
+    assert d["joint_yield"]["count"] <= d["outputs"]["lost_motion"]["yield"]["count"]
+    assert "joint yield" in p.stdout
+
+
+@pytest.mark.parametrize("args, flag", [
+    (["--spec-lost-motion-arcmin", "1"], "--spec-lost-motion-arcmin"),
+    (["--spec-rigidity-nm-per-arcmin", "100"], "--spec-rigidity-nm-per-arcmin"),
+    (["--spec-preload-um", "5"], "--spec-preload-um"),
+])
+def test_elastic_specs_need_the_elastic_model(args, flag):
+    line = one_line_error(run_cli("simulate", "rv80e", "-n", "100", *args), f"error: {flag}")
+    assert "elastic" in line and "allowed with --model" in line
+
+
+def test_preload_spec_on_the_elastic_model_is_a_joint_spec(tmp_path):
+    out = tmp_path / "s.json"
+    p = run_cli("simulate", "rv80e", "--model", "elastic", "-n", "2000", "--seed", "4", "--spec-arcmin", "1",
+                "--spec-preload-um", "5", "--json", out)
+    assert p.returncode == 0, p.stderr
+    d = json.loads(out.read_text())
+    assert d["outputs"]["preload"]["spec_limit"] == 5.0 and d["outputs"]["lost_motion"]["spec_limit"] == 1.0
+    assert d["joint_yield"]["count"] <= d["outputs"]["lost_motion"]["yield"]["count"]
+    assert 0 < d["preload_fraction"] < 1
+
+
+def test_elastic_spec_values_are_checked():
+    one_line_error(run_cli("simulate", "rv80e", "-n", "100", "--model", "elastic", "--spec-rigidity-nm-per-arcmin",
+                           "-5"), "error: --spec-rigidity-nm-per-arcmin")
+    one_line_error(run_cli("simulate", "rv80e", "-n", "100", "--model", "elastic", "--spec-arcmin", "1",
+                           "--spec-lost-motion-arcmin", "1"), "error: --spec-lost-motion-arcmin")
