@@ -173,7 +173,10 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     if sweep_dir is not None:
         from rvbacklash.analysis.sweep import load_sweep
 
-        sweep = load_sweep(sweep_dir)
+        try:
+            sweep = load_sweep(sweep_dir)
+        except InputError as e:
+            raise e.renamed("sweep_dir") if e.field == "out" else e from None
     stack = _analyze(problem)
     chosen = (_paper_scenarios(problem) if paper else []) + list(scenarios)
     sim = _simulate(problem, samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin, specs=specs,

@@ -127,6 +127,15 @@ def test_one_meaning_per_flag(name, tmp_path):
      "--diameter = 12000.0: ISO 1328-1:1995 covers 5 <= d <= 10000"),
     (["tolerance", "iso286", "--size", "800", "--grade", "IT6"], "--size = 800.0"),
     (["tolerance", "iso286", "--size", "8", "--grade", "IT13"], "IT1 to IT12"),
+    # review regressions: flags, not Python names; the range that is checked; the flag that was given
+    (["report", "rv80e", "-o", "r.html", "--allocate", "--yield", "0.99"], "error: --spec-arcmin = None: allowed: "
+                                                                          "a spec > 0 [arcmin]"),
+    (["report", "rv80e", "-o", "r.html", "--allocate", "--spec-arcmin", "3"], "0.5 < P < 1"),
+    (["report", "rv80e", "-o", "r.html", "--sweep", "no-such-dir"], "error: --sweep = 'no-such-dir'"),
+    (["sensitivity", "rv80e", "--model", "contact", "--output", "rigidity"],
+     "error: --output = 'rigidity': allowed outputs of the contact model: backlash"),
+    (["allocate", "rv80e", "--model", "contact", "--spec-arcmin", "2", "--yield", "0.9", "-n", "1e9"],
+     "error: --samples = 1000000000: allowed: a whole number of samples per candidate, 1000 to 1e7"),
 ])
 def test_bad_input_is_one_line(args, fragment, tmp_path):
     out = tmp_path / "o.json"

@@ -86,3 +86,63 @@ def test_elastic_spec_values_are_checked():
                            "-5"), "error: --spec-rigidity-nm-per-arcmin")
     one_line_error(run_cli("simulate", "rv80e", "-n", "100", "--model", "elastic", "--spec-arcmin", "1",
                            "--spec-lost-motion-arcmin", "1"), "error: --spec-lost-motion-arcmin")
+
+
+def test_a_unit_saved_by_the_elastic_run_reproduces_its_figures(tmp_path):
+    """Review regression: the saved unit carries its crank-bearing clearance (and so its involute
+    share) and its gaps are the Monte-Carlo's own (the contact kernel's), so the loop of the unit
+    re-run alone gives the run's figures exactly (one unit: mean = the unit's value)."""
+    units, sim = tmp_path / "e.toml", tmp_path / "s.json"
+    p = run_cli("simulate", "rv80e", "--model", "elastic", "-n", "1", "--seed", "3", "--save-units", "1", units,
+                "--json", sim)
+    assert p.returncode == 0, p.stderr
+    assert "rvbacklash hysteresis rv80e --measured FILE" in units.read_text()
+    assert "crank_bearing_clearance_um = " in units.read_text()
+    h = run_cli("hysteresis", "rv80e", "--measured", units, "--format", "json")
+    assert h.returncode == 0, h.stderr
+    d, s = json.loads(h.stdout), json.loads(sim.read_text())["outputs"]
+    assert d["lost_motion_arcmin"] == pytest.approx(s["lost_motion"]["mean"], rel=1e-7)
+    assert d["backlash_arcmin"] == pytest.approx(s["backlash"]["mean"], rel=1e-7)
+    assert d["torsional_rigidity_nm_per_arcmin"] == pytest.approx(s["rigidity"]["mean"], rel=1e-7)
+
+
+def test_the_preload_yield_counts_the_free_units_as_meeting_it(tmp_path):
+    """Review regression: P(preload <= P) is over every unit (a free cycloid stage meets it), as in
+    the joint yield and the allocation; the moments and quantiles stay those of the preloaded units,
+    and every quantile lies within the samples' range."""
+    out = tmp_path / "s.json"
+    p = run_cli("simulate", "rv80e", "--model", "contact", "-n", "3000", "--seed", "4", "--spec-preload-um", "5",
+                "--json", out)
+    assert p.returncode == 0, p.stderr
+    d = json.loads(out.read_text())
+    pre = d["outputs"]["preload"]
+    n, preloaded = d["samples_done"], pre["samples"]
+    assert 0 < preloaded < n
+    assert pre["yield"]["total"] == n
+    passing_preloaded = pre["yield"]["count"] - (n - preloaded)
+    assert 0 < passing_preloaded < preloaded
+    assert pre["cp"] is None and pre["cpk"] is None
+    for o in d["outputs"].values():
+        for q in o["quantiles"]["table"]:
+            for v in (q["value"], q["ci95_low"], q["ci95_high"]):
+                assert v is None or o["min"] <= v <= o["max"]
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda t: t.replace("other_stages_arcmin = ", "other_stages_arcmin = -500 #", 1), "other_stages_arcmin = -500"),
+    (lambda t: t.replace("runout_um = [", "runout_um = [1e9, ", 1).replace("[1e9, ", "[1e9, 0.0] #", 1),
+     "runout_um"),
+    (lambda t: "unit = []\n", "unit = []"),
+])
+def test_measured_unit_errors_name_the_file_and_the_field(tmp_path, edit, fragment):
+    units = tmp_path / "u.toml"
+    assert run_cli("simulate", "rv80e", "--model", "contact", "-n", "100", "--save-units", "1", units).returncode == 0
+    units.write_text(edit(units.read_text()))
+    line = one_line_error(run_cli("contact", "rv80e", "--measured", units), f"error: {units}: ")
+    assert fragment in line and "--unit" not in line
+
+
+def test_save_units_needs_at_least_one_unit(tmp_path):
+    one_line_error(run_cli("simulate", "rv80e", "--model", "contact", "-n", "100", "--save-units", "0",
+                           tmp_path / "x.toml"), "error: --save-units = 0")
+    assert not (tmp_path / "x.toml").exists()

@@ -94,6 +94,10 @@ def test_another_sweep_into_the_directory_is_refused_without_force(sweep_file, t
                                   "second_stage.moving_distance_modification_um = 0.0): parameters[0] "
                                   "second_stage.equidistance_modification_um = 1200.0: "),
     (("samples = 2000", "samples = -3"), "mods.toml: samples = -3: "),
+    # review regressions: a negative limit ran with yield 0 everywhere; a name with a path escaped --out
+    (("spec_arcmin = 2.0", "spec_arcmin = 2.0\n[specs]\nbacklash = -1.0"),
+     "mods.toml: specs.backlash = -1.0: allowed: a finite limit > 0"),
+    (('design = "rv80e"', 'name = "../evil"\ndesign = "rv80e"'), "mods.toml: name = '../evil': String should match"),
 ])
 def test_a_bad_sweep_is_one_line_naming_the_field(sweep_file, tmp_path, change, fragment):
     sweep_file.write_text(sweep_file.read_text().replace(*change))

@@ -311,7 +311,7 @@ def test_zero_clearance_and_friction_give_twice_the_angle_at_the_measuring_torqu
     # no friction: the loop passes through the origin and lost motion = 2 theta(x T_R)
     r = Realization.nominal(problem.cycloid)
     u = el.unit_from_realization(problem, r, 0.0, 0.0)
-    assert np.max(np.abs(u.gap_um)) < 1e-12
+    assert np.max(np.abs(u.gap_um)) < 1e-9  # the exact geometry's gaps of a perfect unit: 0 to rounding
     m = el.ElasticModel(model.inputs, model.geometry, model.chain._replace(friction_nm=0.0, friction_fraction=0.0),
                         model.roller_cos, model.bearings, model.crank_circle_radius_mm, model.raceway_diameter_mm)
     pu = el.PreparedUnit(m, u)

@@ -695,8 +695,9 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
     candidate, local search from the linear optimum, verification on an independent stream."""
     started = time.perf_counter()
     check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um)
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1000:
-        raise InputError("samples", samples, "allowed: a whole number of samples per candidate >= 1000")
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 1000 <= samples <= 10**7:
+        raise InputError("samples", samples, "allowed: a whole number of samples per candidate, 1000 to 1e7 "
+                                             "(a search evaluates up to 200 candidates)")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("seed", seed, "allowed: an integer >= 0")
     ch = grade_choices(problem)

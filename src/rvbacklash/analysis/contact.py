@@ -147,13 +147,19 @@ def unit_realization(problem: Problem, unit: MeasuredUnit, crank_angle_deg: floa
     discs = unit.discs or []
     chi = crank_angle_deg if crank_angle_deg is not None else (unit.crank_angle_deg or 0.0)
     per = lambda name: np.array([getattr(d, name) for d in discs]) if discs else np.zeros(g.discs)  # noqa: E731
+    crank = unit.crank_bearing_clearance_um
+    involute = None
+    if crank is not None and unit.other_stages_arcmin is not None:  # Eq. (1): other stages = involute + crank
+        k = FACTOR_KEYS.index("crank_bearing_clearance")
+        involute = max(unit.other_stages_arcmin - problem.sensitivities_arcmin_per_um[k] * crank, 0.0) / ARCMIN_PER_RAD
     return Realization(
         math.radians(chi), arr(p.radial_position_um), arr(p.tangential_position_um), arr(p.radius_um),
         arr(p.hole_clearance_um) if p.hole_clearance_um is not None else z.copy(),
         np.stack([arr(d.cumulative_pitch_um, g.zc) for d in discs]) if discs else np.zeros((g.discs, g.zc)),
         np.stack([arr(d.runout_um, 2) for d in discs]) if discs else np.zeros((g.discs, 2)),
         per("eccentricity_error_um"), s2.equidistance_modification_um + per("equidistance_error_um"),
-        s2.moving_distance_modification_um + per("moving_distance_error_um"))
+        s2.moving_distance_modification_um + per("moving_distance_error_um"), crank_clearance_um=crank,
+        involute_backlash_rad=involute)
 
 
 def measured_contact(problem: Problem, unit: MeasuredUnit, label: str = "measured unit",
@@ -169,7 +175,7 @@ def measured_units(problem: Problem, saved: tuple) -> list[MeasuredUnit]:
     for r, linear_arcmin, stage in saved:
         out.append(MeasuredUnit(
             crank_angle_deg=math.degrees(r.chi_rad), cycloid_stage_arcmin=max(stage, 0.0),
-            other_stages_arcmin=linear_arcmin,
+            other_stages_arcmin=linear_arcmin, crank_bearing_clearance_um=r.crank_clearance_um,
             pins=MeasuredPins(radius_um=r.pin_radius_um.tolist(), radial_position_um=r.pin_radial_um.tolist(),
                               tangential_position_um=r.pin_tangential_um.tolist(),
                               hole_clearance_um=r.pin_clearance_um.tolist()),

@@ -196,8 +196,9 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
 
 def measured_unit(problem: Problem, path: str | Path, unit: int | None = None) -> tuple[ElasticUnit, str]:
     """Unit ``unit`` (0-based; default the first) of a measured-unit file (UNIT.toml, design/measured.py) and its label. Its
-    cycloid-stage errors give the gaps (``linear_gaps_um``); the involute stage and the crank
-    bearings, which the file does not break down, are taken at their nominal values."""
+    cycloid-stage errors give the gaps (the contact kernel's, as the Monte-Carlo has them); the
+    crank bearings' clearance and the involute stage from ``crank_bearing_clearance_um`` and
+    ``other_stages_arcmin`` when the file gives them, else at their nominal values."""
     try:
         from rvbacklash.design import measured as m
     except ImportError:  # pragma: no cover - the module comes with issue 10
@@ -217,8 +218,10 @@ def measured_unit(problem: Problem, path: str | Path, unit: int | None = None) -
         raise InputError("measured", str(path), "not available yet: measured units come with the per-part error "
                                                 "models (issue 10, rvbacklash.design.measured)")
     involute, crank = other_stages_nominal(problem)
-    involute = getattr(r, "involute_backlash_rad", involute)
-    crank = getattr(r, "crank_clearance_um", crank)
+    if getattr(r, "involute_backlash_rad", None) is not None:
+        involute = r.involute_backlash_rad
+    if getattr(r, "crank_clearance_um", None) is not None:
+        crank = r.crank_clearance_um
     return unit_from_realization(problem, r, involute, crank), label
 
 

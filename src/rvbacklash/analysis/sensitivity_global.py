@@ -308,7 +308,8 @@ def global_sensitivity(problem: Problem, *, model: str | StreamModel = "linear",
     names = [o.name for o in sm.outputs]
     out_name = names[0] if output is None else output
     if out_name not in names:
-        raise InputError("output", out_name, f"allowed outputs of the {model_name} model: {', '.join(names)}")
+        raise InputError("output", out_name, f"allowed outputs of the {model_name} model: "
+                                             + ", ".join(o.name for o in sm.outputs if not o.conditional))
     out_index = names.index(out_name)
     if sm.outputs[out_index].conditional:
         raise InputError("output", out_name, "is defined for some units only (conditional); Sobol indices need an "

@@ -274,7 +274,7 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
 
     with np.errstate(invalid="ignore", divide="ignore"):
         raw = run_blocks(source, int(samples), limits, workers or default_workers(), chunk_blocks, progress, snapshot)
-        outputs = {o.output.name: st.output_statistics(o, qs, lim if math.isfinite(lim) else None)
+        outputs = {o.output.name: st.output_statistics(o, qs, lim if math.isfinite(lim) else None, raw.samples)
                    for o, lim in zip(raw.outputs, limits)}
     n_specs = sum(math.isfinite(x) for x in limits)
     joint = Proportion.sampled(raw.n_joint_pass, raw.samples) if n_specs > 1 and raw.samples else None

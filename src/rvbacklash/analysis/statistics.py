@@ -234,24 +234,38 @@ def coarse_histogram(hist: Histogram, n: int, unit: str, bins: int = 200) -> His
                          int(hist.counts[0]), int(hist.counts[-1]))
 
 
-def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float | None = None) -> OutputStatistics:
-    """Every statistic of one output of a (possibly partial) run."""
+def _clamped(q: Quantile, lo: float, hi: float) -> Quantile:
+    """A quantile read off the histogram (spread inside its bin) kept within the samples' range."""
+    c = lambda v: None if v is None else min(max(v, lo), hi)  # noqa: E731
+    return Quantile(q.probability, c(q.value), c(q.ci95_low), c(q.ci95_high))
+
+
+def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float | None = None,
+                      samples: int | None = None) -> OutputStatistics:
+    """Every statistic of one output of a (possibly partial) run. The moments and quantiles are
+    those of the samples the output applies to; the yield of a conditional output counts every
+    sample (``samples``, the run's total): one it does not apply to meets the spec, as in the joint
+    yield (a unit whose cycloid stage is free meets a preload limit)."""
     m: Moments = raw.moments
     o = raw.output
     n = m.n
     std = math.sqrt(m.m2 / (n - 1)) if n > 1 else 0.0
     half = Z95 * std / math.sqrt(n) if n > 1 else math.nan
     mean = m.mean if n else math.nan
-    if spec is not None and n:
-        frac = m.n_pass / n
-        y = Proportion.sampled(m.n_pass, n)
-        cp, cpk = process_capability(mean, std, spec) if o.upper_limit else (None, None)
-        ppm = (1.0 - frac) * 1e6
+    total = samples if o.conditional and samples is not None else n
+    if spec is not None and total:
+        passing = m.n_pass + (total - n)
+        y = Proportion.sampled(passing, total)
+        cp, cpk = process_capability(mean, std, spec) if o.upper_limit and not o.conditional else (None, None)
+        ppm = (1.0 - passing / total) * 1e6
     else:
         y, cp, cpk, ppm = None, None, None, None
+    qs = tuple(quantile_with_ci(raw.histogram, n, p) for p in quantiles)
+    if n:
+        qs = tuple(_clamped(q, m.min, m.max) for q in qs)
     return OutputStatistics(
         o.name, o.unit, o.description, n, mean, mean - half, mean + half, std,
         m.min if n else None, m.max if n else None,
-        Quantiles(o.unit, tuple(quantile_with_ci(raw.histogram, n, p) for p in quantiles)),
+        Quantiles(o.unit, qs),
         spec, o.upper_limit, y, ppm, cp, cpk, m.n_negative / n if n else None,
         coarse_histogram(raw.histogram, n, o.unit))

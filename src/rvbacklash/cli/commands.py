@@ -74,6 +74,8 @@ def simulate(
     specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
                          spec_preload_um)
     n_save, save_path = save_units if save_units is not None else (0, None)
+    if save_units is not None and n_save < 1:
+        raise InputError("--save-units", n_save, "allowed: N >= 1 units to write to FILE")
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, save_units=save_path)
     problem = api.prepare(design)
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
@@ -87,8 +89,8 @@ def simulate(
 
         return units_to_toml(api.measured_units(problem, result),
                              f"{len(result.units)} units of `rvbacklash simulate {design} --model {model} --seed {seed}`"
-                             f"\n(design {problem.name}); re-run one: rvbacklash contact {design} --measured FILE "
-                             f"--unit K")
+                             f"\n(design {problem.name}); re-run one: rvbacklash "
+                             f"{'hysteresis' if model == 'elastic' else 'contact'} {design} --measured FILE --unit K")
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows), "--save-units": units_toml},
                lambda: tables.print_simulation(result, stdout_console()), data, rows)
     if result.partial:
@@ -242,7 +244,10 @@ def report(
     specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
                          spec_preload_um)
     if allocate and yield_target is None:
-        raise InputError("--yield", None, "allowed: a target yield 0 < P < 1; --allocate needs it")
+        raise InputError("--yield", None, "allowed: a target yield 0.5 < P < 1; --allocate needs it")
+    if allocate and spec_arcmin is None:
+        raise InputError("--spec-arcmin", None, "allowed: a spec > 0 [arcmin] of the model's primary output; "
+                                                "--allocate needs it")
     if yield_target is not None and not allocate:
         raise InputError("--yield", yield_target, "allowed with --allocate only")
     out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)

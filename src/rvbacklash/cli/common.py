@@ -27,7 +27,7 @@ FLAGS = {
     "edition": "--edition", "size_mm": "--size", "fit": "--fit",
     "yield_target": "--yield", "output": "--output",
     "spec_lost_motion_arcmin": "--spec-lost-motion-arcmin", "spec_rigidity_nm_per_arcmin": "--spec-rigidity-nm-per-arcmin",
-    "spec_preload_um": "--spec-preload-um",
+    "spec_preload_um": "--spec-preload-um", "sweep_dir": "--sweep",
     "points": "--points",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }

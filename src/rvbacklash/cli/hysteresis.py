@@ -25,10 +25,10 @@ def print_hysteresis(result, console) -> None:
         t.add_column(col, justify="left" if col != "value" else "right")
     x = r.measuring_torque_fraction * 100
     lo, hi = (v * 100 for v in r.rigidity_interval_fraction)
-    t.add_row("lost motion [arcmin]", f"{r.lost_motion_arcmin:.4f}",
+    t.add_row(escape("lost motion [arcmin]"), f"{r.lost_motion_arcmin:.4f}",
               escape(f"mean of load/unload angles at +{x:g} % T_R minus the same at -{x:g} % T_R"))
-    t.add_row("backlash [arcmin]", f"{r.backlash_arcmin:.4f}", "width of the loop at zero torque")
-    t.add_row("torsional rigidity [N m/arcmin]", f"{r.torsional_rigidity_nm_per_arcmin:.1f}",
+    t.add_row(escape("backlash [arcmin]"), f"{r.backlash_arcmin:.4f}", "width of the loop at zero torque")
+    t.add_row(escape("torsional rigidity [N m/arcmin]"), f"{r.torsional_rigidity_nm_per_arcmin:.1f}",
               escape(f"secant of the loading branches over {lo:g}-{hi:g} % T_R"))
     t.add_row("pins in contact at +T_R", " + ".join(map(str, r.pins_in_contact_at_rated)),
               f"per disc; largest pin force {r.max_pin_force_at_rated_n:.0f} N")

@@ -81,6 +81,8 @@ def _submodel(model: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
     """The nested model class reached by following ``loc`` from ``model`` (None if not a model)."""
     cur: type[BaseModel] | None = model
     for part in loc:
+        if isinstance(part, int):  # an index into a list of models: the same model
+            continue
         if cur is None or part not in cur.model_fields:
             return None
         ann = cur.model_fields[part].annotation
@@ -91,7 +93,7 @@ def _submodel(model: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
 
 def _field(model: type[BaseModel], loc: tuple) -> Any:
     """FieldInfo at ``loc`` or None."""
-    parent = _submodel(model, loc[:-1]) if loc else None
+    parent = _submodel(model, loc[:-1]) if loc else None  # loc without list indices
     if parent is None or not loc or loc[-1] not in parent.model_fields:
         return None
     return parent.model_fields[loc[-1]]
@@ -116,10 +118,10 @@ def validation_to_input_error(err: ValidationError, model: type[BaseModel]) -> I
     errors = sorted(err.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
     first = errors[0]
     loc = tuple(first["loc"])
-    field = ".".join(str(p) for p in loc) or "design"
+    field = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in loc).lstrip(".") or "design"
     n = len(errors) - 1
     more = f" (and {n} more problem{'s' if n > 1 else ''})" if n else ""
-    info = _field(model, loc)
+    info = _field(model, tuple(p for p in loc if not isinstance(p, int)))
     kind = first["type"]
     if kind == "missing":
         return InputError(field, allowed="missing required field; " + (_allowed_range(info) or "required") + more)

@@ -15,6 +15,10 @@ Any array may be left out (zeros). A file holds one unit (``[pins]``, ``[[discs]
     moving_distance_error_um = 0.0  #   (along, across the eccentric) and crank eccentricity error
     runout_um = [0.0, 0.0]
     eccentricity_error_um = 0.0
+
+Optional per unit: ``crank_angle_deg``, ``other_stages_arcmin`` (the involute and crank stages'
+lost motion, Eq. (1)), ``crank_bearing_clearance_um`` (the elastic model's needle-bearing dead
+band; with ``other_stages_arcmin`` it also fixes the involute stage's share).
 """
 
 from __future__ import annotations
@@ -24,7 +28,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from rvbacklash.design.loading import validation_to_input_error
 from rvbacklash.design.schema import Design
@@ -53,14 +57,25 @@ class MeasuredDisc(_Strict):
     moving_distance_error_um: float = Field(0.0, ge=-LIMIT_UM, le=LIMIT_UM, description="[um], + = teeth moved out")
     runout_um: list[float] | None = Field(None, min_length=2, max_length=2,
                                           description="profile-centre offset [along, across] the eccentric [um]")
+
+    @field_validator("runout_um")
+    @classmethod
+    def _runout_within_limit(cls, v):
+        if v is not None and any(abs(x) > LIMIT_UM for x in v):
+            raise ValueError(f"allowed: values within +-{LIMIT_UM:g} um")
+        return v
     eccentricity_error_um: float = Field(0.0, ge=-LIMIT_UM, le=LIMIT_UM, description="crank eccentricity error [um]")
 
 
 class MeasuredUnit(_Strict):
     crank_angle_deg: float | None = Field(None, ge=-360, le=360, description="crank angle of the measurement [deg]")
     cycloid_stage_arcmin: float | None = Field(None, description="the play the Monte-Carlo found (informative)")
-    other_stages_arcmin: float | None = Field(None, description="lost motion of the involute and crank stages "
-                                                               "[arcmin]; default: their linear means")
+    other_stages_arcmin: float | None = Field(None, ge=-60, le=60,
+                                              description="lost motion of the involute and crank stages [arcmin] "
+                                                          "(Eq. (1)); default: their linear means")
+    crank_bearing_clearance_um: float | None = Field(None, ge=0, le=LIMIT_UM,
+                                                     description="radial clearance of the crank needle bearings "
+                                                                 "[um] (elastic model); default: its zone mean")
     pins: MeasuredPins = MeasuredPins()
     discs: list[MeasuredDisc] = Field(default_factory=list)
 
@@ -118,7 +133,10 @@ def load_units(path: str | Path, design: Design) -> list[MeasuredUnit]:
         text = p.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as e:
         raise InputError("measured", str(path), f"cannot read file ({e})") from None
-    return units_from_toml(text, design, str(path))
+    try:
+        return units_from_toml(text, design, str(path))
+    except InputError as e:  # name the file: the fields of a unit file are not the command's flags
+        raise e.renamed(f"{path}: {e.field}") if not e.field.startswith(str(path)) else e from None
 
 
 def _array(values) -> str:
@@ -130,7 +148,7 @@ def units_to_toml(units: list[MeasuredUnit], header: str = "") -> str:
     lines = [f"# {line}" for line in header.splitlines()] + ([""] if header else [])
     for u in units:
         lines.append("[[unit]]")
-        for name in ("crank_angle_deg", "cycloid_stage_arcmin", "other_stages_arcmin"):
+        for name in ("crank_angle_deg", "cycloid_stage_arcmin", "other_stages_arcmin", "crank_bearing_clearance_um"):
             v = getattr(u, name)
             if v is not None:
                 lines.append(f"{name} = {v:.9g}")

@@ -257,7 +257,9 @@ class SweepSpec(_Strict):
     """A design sweep: the base design, the fields to vary, how to choose the points, and one
     Monte-Carlo run per point (model, samples, seed, specs)."""
 
-    name: str = Field("", max_length=200, description="name of the sweep; default: the file name without .toml")
+    name: str = Field("", max_length=200, pattern=r"^$|^[A-Za-z0-9][A-Za-z0-9._-]*$",
+                      description="name of the sweep (letters, digits, . _ -; it names the default --out "
+                                  "directory); default: the file name without .toml")
     description: str = Field("", max_length=5000)
     design: str = Field(min_length=1, max_length=1000,
                         description="base design: a TOML path relative to the sweep file, or a built-in example")
@@ -278,6 +280,14 @@ class SweepSpec(_Strict):
                                description="points of a latin-hypercube or sobol design (sobol: a power of 2)")
     parameters: list[Parameter] = Field(min_length=1, max_length=MAX_PARAMETERS,
                                         description="the design fields to vary")
+
+    @field_validator("specs")
+    @classmethod
+    def _limits(cls, specs: dict[str, float]) -> dict[str, float]:
+        for name, v in specs.items():
+            if not math.isfinite(v) or v < 0 or (v == 0 and name != "preload"):
+                raise _FieldError(name, v, "allowed: a finite limit > 0 (preload: >= 0) in the output's unit")
+        return specs
 
     @field_validator("quantiles")
     @classmethod

@@ -48,6 +48,9 @@ class Realization:
     eccentricity_error_um: np.ndarray  # (discs,)
     equidistance_um: np.ndarray  # (discs,) total dr_rp of each disc
     moving_distance_um: np.ndarray  # (discs,) total dr_p of each disc
+    # the rest of the unit, for the elastic model (None: the stage's nominal value)
+    crank_clearance_um: float | None = None  # radial clearance of the crank needle bearings
+    involute_backlash_rad: float | None = None  # the involute stage's backlash at the output, >= 0
 
     @classmethod
     def nominal(cls, g: ContactGeometry, equidistance_um: float = 0.0, moving_distance_um: float = 0.0,

@@ -8,7 +8,7 @@ series, each referred to the output:
 
 - **cycloid pins** (both discs in parallel, tied by the cranks: one rotation): contact j closes
   by delta_j = (L_j / k) theta - g_j [um] (gap g_j and signed lever L_j of the contact model,
-  ``models.contact.linear_gaps_um``; k the lever factor, ``compliance.cycloid_lever_factor``);
+  ``models.contact.unit_gaps``; k the lever factor, ``compliance.cycloid_lever_factor``);
   its force F_j(delta_j) inverts the line-contact law; theta solves 1e-6 sum F_j L_j / k = T_el
   (monotone in theta; preloaded units start in contact);
 - **crank (swivel-arm) needle bearings**: every bearing carries F = T_el k / (n a0); its rollers
@@ -43,7 +43,7 @@ from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models import compliance as cm
-from rvbacklash.models.contact import Realization, linear_gaps_um
+from rvbacklash.models.contact import Realization, mesh_table, unit_arrays, unit_gaps
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
@@ -623,11 +623,15 @@ def other_stages_nominal(problem: Problem) -> tuple[float, float]:
 
 def unit_from_realization(problem: Problem, r: Realization, involute_backlash_rad: float,
                           crank_clearance_um: float) -> ElasticUnit:
-    """The elastic model's view of a contact-model realisation (``linear_gaps_um`` of every disc)."""
+    """The elastic model's view of a contact-model realisation: every pin's gap and lever from the
+    contact kernel (``models.contact.unit_gaps`` at the unit's exact crank angle), as the
+    Monte-Carlo computes them, so that a saved unit re-run alone gives its own figures."""
     g = problem.cycloid
-    gaps, levers = zip(*(linear_gaps_um(g, r, d) for d in range(g.discs)))
-    return ElasticUnit(np.ascontiguousarray(np.stack(gaps)), np.ascontiguousarray(np.stack(levers)),
-                       float(r.chi_rad), float(involute_backlash_rad), float(crank_clearance_um))
+    gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
+    unit_gaps(mesh_table(g, np.array([r.chi_rad]))[0], g.a_mm, g.rp_mm, g.zp, g.discs, g.pitch_radius_um,
+              *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r)), gap, lever,
+              np.empty((4, g.discs, g.zp)))
+    return ElasticUnit(gap, lever, float(r.chi_rad), float(involute_backlash_rad), float(crank_clearance_um))
 
 
 def nominal_realization(problem: Problem, chi_rad: float = 0.0) -> Realization:

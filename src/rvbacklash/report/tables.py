@@ -14,6 +14,9 @@ if TYPE_CHECKING:  # the simulation pulls in the compiled kernels; only its type
     from rvbacklash.analysis.simulation import SimulationResult
 
 
+UNIT_TEXT = {"nm_per_arcmin": "N m/arcmin"}  # unit names as the field names spell them -> as people read them
+
+
 def _g(x: float, digits: int = 4) -> str:
     return f"{x:.{digits}g}"
 
@@ -85,7 +88,8 @@ def print_simulation(r: "SimulationResult", console: Console) -> None:
         head += f"  [bold red]PARTIAL: interrupted after {r.samples_done:,} of {r.samples:,} samples[/]"
     console.print(head)
     for o in r.outputs.values():
-        t = Table(title=escape(f"{o.description} [{o.unit}]"), title_justify="left")
+        unit = UNIT_TEXT.get(o.unit, o.unit)
+        t = Table(title=escape(f"{o.description} [{unit}]"), title_justify="left")
         for c in ["statistic", "value", "95 % interval"]:
             t.add_column(c, justify="left" if c == "statistic" else "right")
         if o.samples is not None and r.samples_done is not None and o.samples != r.samples_done:
@@ -99,7 +103,7 @@ def print_simulation(r: "SimulationResult", console: Console) -> None:
         if o.yield_ is not None:
             y = o.yield_
             side = "<=" if o.spec_is_upper else ">="
-            t.add_row(escape(f"yield P({o.quantity} {side} {o.spec_limit:g} {o.unit})"), f"{y.fraction * 100:.4f} %",
+            t.add_row(escape(f"yield P({o.quantity} {side} {o.spec_limit:g} {unit})"), f"{y.fraction * 100:.4f} %",
                       f"[{y.ci95_low * 100:.4f} %, {y.ci95_high * 100:.4f} %]")
             t.add_row("out of spec", f"{o.ppm_out:.1f} ppm", "")
             if o.cp is not None:

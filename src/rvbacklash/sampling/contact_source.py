@@ -205,7 +205,7 @@ def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_i
 
 
 @nb.njit(nogil=True, cache=True)
-def save_unit(row, step, lin, eq0, md0, sc, zp, zc, discs, stage):
+def save_unit(row, step, lin, eq0, md0, sc, zp, zc, discs, stage, crank):
     """One unit's errors into a row of the --save-units record (ContactBlockSource.saved_units)."""
     dr, dt, rho, cl, teeth, eq, md, ux, uy, da = sc[:10]
     row[0] = step
@@ -229,6 +229,7 @@ def save_unit(row, step, lin, eq0, md0, sc, zp, zc, discs, stage):
             row[c] = teeth[d, k]
             c += 1
     row[c] = stage
+    row[c + 1] = crank
 
 
 @nb.njit(nogil=True, cache=True)
@@ -242,7 +243,7 @@ def contact_block(streams, n, bm, long_wave, codes, params, tables, harmonics, l
     gap, lever, work, res = sc[17], sc[18], sc[19], sc[20]
     steps = coef.shape[0]
     for s in range(n):
-        step, lin, _, eq0, md0 = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
+        step, lin, crank, eq0, md0 = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
                                            linear_sens, idx, zp, zc, discs, steps, sc)
         chi = 2.0 * math.pi / zp * (step + 0.5) / steps
         stage_play(coef[step], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
@@ -258,7 +259,7 @@ def contact_block(streams, n, bm, long_wave, codes, params, tables, harmonics, l
             out[1, s] = out[0, s]
             out[2, s] = np.nan
         if s < save.shape[0]:
-            save_unit(save[s], step, lin, eq0, md0, sc, zp, zc, discs, stage)
+            save_unit(save[s], step, lin, eq0, md0, sc, zp, zc, discs, stage, crank)
 
 
 PRELOAD_OUTPUT = Output("preload", "um", "preload of the units whose cycloid stage is preloaded (deepest "
@@ -271,7 +272,7 @@ CONTACT_OUTPUTS = (
 
 
 def save_width(g: ContactGeometry) -> int:
-    return 4 + 5 * g.discs + 4 * g.zp + g.discs * g.zc + 1
+    return 4 + 5 * g.discs + 4 * g.zp + g.discs * g.zc + 2
 
 
 @dataclass(frozen=True, eq=False)
@@ -327,8 +328,9 @@ class ContactBlockSource:
             c += 4 * g.zp
             teeth = np.array(row[c:c + g.discs * g.zc]).reshape(g.discs, g.zc)
             r = Realization(self.crank_angle_rad(int(row[0])), dr, dt, rho, cl, teeth, per_disc[:, 2:4].copy(),
-                            per_disc[:, 4].copy(), per_disc[:, 0].copy(), per_disc[:, 1].copy())
-            out.append((r, float(row[1]), float(row[-1])))
+                            per_disc[:, 4].copy(), per_disc[:, 0].copy(), per_disc[:, 1].copy(),
+                            crank_clearance_um=float(row[-1]))
+            out.append((r, float(row[1]), float(row[-2])))
         return out
 
 

@@ -95,7 +95,7 @@ def draw_units_kernel(streams, n, long_wave, codes, params, tables, harmonics, l
         preload_out[s] = res[2] if math.isnan(res[0]) else np.nan
         if s < save.shape[0]:
             stage = -res[2] if math.isnan(res[0]) else (res[0] + res[1]) * ARCMIN_PER_RAD
-            save_unit(save[s], step, lin, eq0, md0, sc, zp, zc, discs, stage)
+            save_unit(save[s], step, lin, eq0, md0, sc, zp, zc, discs, stage, crank)
 
 
 CHUNK = 4096  # units drawn and evaluated at a time within a block (bounded memory)
