@@ -132,6 +132,8 @@ def test_one_meaning_per_flag(name, tmp_path):
                                                                           "a spec > 0 [arcmin]"),
     (["report", "rv80e", "-o", "r.html", "--allocate", "--spec-arcmin", "3"], "0.5 < P < 1"),
     (["report", "rv80e", "-o", "r.html", "--sweep", "no-such-dir"], "error: --sweep = 'no-such-dir'"),
+    (["simulate", "rv80e", "-n", "1000", "--error-model", "independent"],
+     "error: --error-model = 'independent': allowed with the contact or elastic model only"),
     (["sensitivity", "rv80e", "--model", "contact", "--output", "rigidity"],
      "error: --output = 'rigidity': allowed outputs of the contact model: backlash"),
     (["allocate", "rv80e", "--model", "contact", "--spec-arcmin", "2", "--yield", "0.9", "-n", "1e9"],

@@ -238,6 +238,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     if error_model is not None:
         if error_model not in ("long_wave", "independent"):
             raise InputError("error_model", error_model, "allowed: long_wave, independent")
+        if model not in ("contact", "elastic"):
+            raise InputError("error_model", error_model, "allowed with the contact or elastic model only (the "
+                                                         "per-element errors it reads)")
         problem = replace(problem, contact_errors=replace(problem.contact_errors, error_model=error_model))
 
     if not isinstance(stream, tuple) or any(isinstance(x, bool) or not isinstance(x, (int, np.integer)) or x < 0
