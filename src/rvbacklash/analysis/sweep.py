@@ -27,7 +27,6 @@ import json
 import math
 import os
 import shutil
-import tempfile
 import threading
 import time
 from dataclasses import dataclass, field
@@ -36,6 +35,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 from rvbacklash.analysis.executor import Executor, check_scheduler, check_workers, cores, dask_available, executor
 from rvbacklash.analysis.simulation import MODELS, check_run_parameters, simulate
+from rvbacklash.atomic import atomic_write
 from rvbacklash.design.schema import Design
 from rvbacklash.design.sweep_spec import (Scalar, SweepSource, SweepSpec, load_sweep_source, point_designs,
                                           sweep_points)
@@ -210,24 +210,7 @@ def point_tasks(plan: SweepPlan, indices: Iterable[int], threads: int | None) ->
 # --- files -------------------------------------------------------------------------------------
 
 def _atomic_write(path: Path, content: bytes) -> None:
-    """Write to a temporary sibling and rename (report.files.atomic_write does the same for the
-    report layer, which this layer cannot import)."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(content)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException as e:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(e, OSError):
-            raise InputError("out", str(path), f"cannot write ({e.strerror or e})") from None
-        raise
+    atomic_write("out", path, content)
 
 
 def _column_types(rows: list[dict], columns: list[str]) -> dict[str, str]:

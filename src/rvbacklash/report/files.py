@@ -14,10 +14,10 @@ import json
 import os
 import stat
 import sys
-import tempfile
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
+from rvbacklash.atomic import atomic_write  # noqa: F401 - part of this module's interface
 from rvbacklash.errors import InputError
 from rvbacklash.results import plain
 
@@ -103,22 +103,3 @@ def write_files(contents: Mapping[str, tuple[Path, str | bytes]], force: bool = 
             atomic_write(option, target(path), content)
 
 
-def atomic_write(option: str, path: Path, content: str | bytes) -> None:
-    mode = "wb" if isinstance(content, bytes) else "w"
-    parent = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent)
-    try:
-        with os.fdopen(fd, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as fh:
-            fh.write(content)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file the usual permissions
-        os.replace(tmp, path)
-    except BaseException as e:  # includes Ctrl-C: never leave the temporary file behind
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(e, OSError):
-            raise InputError(option, str(path), f"cannot write ({e.strerror or e})") from None
-        raise
