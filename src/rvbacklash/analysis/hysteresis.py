@@ -22,6 +22,8 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from rvbacklash.analysis.contact import unit_realization
+from rvbacklash.design.measured import load_units
 from rvbacklash.errors import InputError
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.elastic import (BACKLASH, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE, ElasticModel,
@@ -199,28 +201,16 @@ def measured_unit(problem: Problem, path: str | Path, unit: int | None = None) -
     cycloid-stage errors give the gaps (the contact kernel's, as the Monte-Carlo has them); the
     crank bearings' clearance and the involute stage from ``crank_bearing_clearance_um`` and
     ``other_stages_arcmin`` when the file gives them, else at their nominal values."""
-    try:
-        from rvbacklash.design import measured as m
-    except ImportError:  # pragma: no cover - the module comes with issue 10
-        m = None
-    if m is not None and hasattr(m, "load_measured_unit"):  # the interface the elastic model asked for
-        r, label = m.load_measured_unit(path, problem), f"measured: {path}"
-    elif m is not None and hasattr(m, "load_units"):
-        from rvbacklash.analysis.contact import unit_realization
-
-        units = m.load_units(path, problem.design)
-        k = 0 if unit is None else unit
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= k < len(units):
-            raise InputError("unit", unit, f"allowed: 0 to {len(units) - 1} (the units of {path}, 0-based)")
-        r = unit_realization(problem, units[k])
-        label = f"measured: unit {k} of {path}" if len(units) > 1 else f"measured: {path}"
-    else:  # pragma: no cover
-        raise InputError("measured", str(path), "not available yet: measured units come with the per-part error "
-                                                "models (issue 10, rvbacklash.design.measured)")
+    units = load_units(path, problem.design)
+    k = 0 if unit is None else unit
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= k < len(units):
+        raise InputError("unit", unit, f"allowed: 0 to {len(units) - 1} (the units of {path}, 0-based)")
+    r = unit_realization(problem, units[k])
+    label = f"measured: unit {k} of {path}" if len(units) > 1 else f"measured: {path}"
     involute, crank = other_stages_nominal(problem)
-    if getattr(r, "involute_backlash_rad", None) is not None:
+    if r.involute_backlash_rad is not None:
         involute = r.involute_backlash_rad
-    if getattr(r, "crank_clearance_um", None) is not None:
+    if r.crank_clearance_um is not None:
         crank = r.crank_clearance_um
     return unit_from_realization(problem, r, involute, crank), label
 

@@ -35,6 +35,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from rvbacklash.design.bounds import bounds_text
 from rvbacklash.factors.catalog import CATALOG, FACTOR_KEYS
 
 DATA_FILE = "data/cost_tolerance.toml"
@@ -154,15 +155,6 @@ class Costs(_Strict):
         return self
 
 
-def _constraints(info) -> str:
-    import annotated_types as at
-
-    words = {at.Gt: "> {}", at.Ge: ">= {}", at.Lt: "< {}", at.Le: "<= {}"}
-    out = [fmt.format(getattr(m, attr)) for m in info.metadata for cls_, fmt in words.items()
-           if isinstance(m, cls_) for attr in ("gt", "ge", "lt", "le") if hasattr(m, attr)]
-    return " and ".join(out)
-
-
 def _check_group_fields(name: str, body: dict) -> None:
     from pydantic import ValidationError
 
@@ -177,7 +169,7 @@ def _check_group_fields(name: str, body: dict) -> None:
         loc = ".".join(str(p) for p in first["loc"])
         field = first["loc"][0] if first["loc"] else None
         info = known.get(field) if isinstance(field, str) else None
-        bounds = _constraints(info) if info is not None else ""
+        bounds = bounds_text(info) if info is not None else ""
         allowed = "; allowed: " + " ".join(p for p in (bounds, f"({info.description})" if info and info.description
                                                         else "") if p) if info is not None else ""
         raise ValueError(f"groups.{name}.{loc} = {first.get('input')!r}: {first['msg']}{allowed}") from None

@@ -8,9 +8,9 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import annotated_types as at
 from pydantic import BaseModel, ValidationError
 
+from rvbacklash.design.bounds import bounds_text
 from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
 
@@ -103,11 +103,8 @@ def _allowed_range(info: Any) -> str:
     """'allowed: finite number > 0 and <= 50 (module m [mm])' from a field's constraints."""
     if info is None:
         return ""
-    symbols = {at.Gt: ("> ", "gt"), at.Ge: (">= ", "ge"), at.Lt: ("< ", "lt"), at.Le: ("<= ", "le")}
-    bounds = [sym + str(getattr(m, attr)) for m in info.metadata
-              for cls, (sym, attr) in symbols.items() if isinstance(m, cls)]
     kind = "integer" if info.annotation is int else "finite number" if info.annotation in (float, float | None) else ""
-    spec = " ".join(p for p in (kind, " and ".join(bounds)) if p)
+    spec = " ".join(p for p in (kind, bounds_text(info)) if p)
     desc = f" ({info.description})" if info.description else ""
     return f"allowed: {spec}{desc}" if spec else (info.description or "")
 
