@@ -48,7 +48,7 @@ def main() -> None:
         for i in range(a.share_units):
             u = el.ElasticUnit(units.gap_um[i], units.lever_um_per_rad[i], float(units.chi_rad[i]),
                                float(units.involute_backlash_rad[i]), float(units.crank_clearance_um[i]))
-            shares += el.PreparedUnit(model, u).figures()[3:]
+            shares += el.PreparedUnit(model, u).figures()[3:el.SHARES]
         total = shares.sum()
         print(f"share of the mean lost motion ({a.share_units} units): "
               + ", ".join(f"{name} {s / total * 100:.0f} %" for name, s in zip(el.ELEMENTS, shares)))

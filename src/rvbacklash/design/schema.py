@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rvbacklash.design.costs import Costs
 from rvbacklash.design.elastic import ElasticInputs
+from rvbacklash.design.structure import StructureInputs
 from rvbacklash.factors import distributions
 from rvbacklash.factors.catalog import CATALOG
 from rvbacklash.geometry import reducer as geometry
@@ -278,6 +279,7 @@ class Design(_Strict):
     costs: Costs | None = None  # cost model of `allocate` (design/costs.py); None: the defaults
     contact: ContactErrors = ContactErrors()
     elastic: ElasticInputs | None = None  # test-bench hysteresis model (design/elastic.py, docs/elastic.md)
+    structure: StructureInputs | None = None  # the whole torque path (design/structure.py); None: rigid
 
     @model_validator(mode="after")
     def _every_factor_has_a_zone(self) -> "Design":

@@ -277,3 +277,190 @@ def applied_torque_nm(elastic_nm, increasing, friction_nm, friction_fraction):
     if increasing:
         return elastic_nm + friction_nm + friction_fraction * abs(elastic_nm)
     return elastic_nm - friction_nm - friction_fraction * abs(elastic_nm)
+
+
+# --- the rest of the torque path: crankshafts, support bearings, carrier, disc translation ------
+# (docs/elastic.md, "The whole torque path"). Lengths [mm], forces [N], moduli [GPa] as named,
+# compliances [um/N] unless a name says otherwise.
+
+def shear_modulus_gpa(e_gpa: float, nu: float) -> float:
+    """Shear modulus of an isotropic material: G = E / (2 (1 + nu)).
+
+    Source: any strength-of-materials text (e.g. Timoshenko & Goodier, Theory of Elasticity, 3rd
+    ed. 1970, Eq. (6)). Parameters: e_gpa E [GPa], nu Poisson's ratio [-]. Returns G [GPa]."""
+    return e_gpa / (2.0 * (1.0 + nu))
+
+
+def circular_shear_coefficient(nu: float) -> float:
+    """Timoshenko's shear coefficient of a solid circular section: kappa = 6 (1 + nu) / (7 + 6 nu).
+
+    Source: Cowper, "The shear coefficient in Timoshenko's beam theory", J. Appl. Mech. 33 (1966)
+    335, Table 1 (solid circle). Parameters: nu [-]. Returns kappa [-] (0.886 for nu = 0.3)."""
+    return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
+
+
+def rectangular_shear_coefficient(nu: float) -> float:
+    """Timoshenko's shear coefficient of a rectangular section: kappa = 10 (1 + nu) / (12 + 11 nu).
+
+    Source: Cowper (1966), Table 1 (rectangle). Parameters: nu [-]. Returns kappa [-] (0.850 for
+    nu = 0.3)."""
+    return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
+
+
+def crank_symmetric_deflection_um_per_n(span_mm: float, load_offset_mm: float, diameter_mm: float,
+                                        e_gpa: float, nu: float) -> float:
+    """Deflection under either load of a simply supported crankshaft carrying two equal loads in the
+    same direction, symmetric about mid-span (the two discs' torque forces on one crank):
+
+        delta / P = c^2 (3 L - 4 c) / (6 E I) + c / (kappa G A),   I = pi d^4 / 64,  A = pi d^2 / 4
+
+    Source: Young & Budynas, Roark's Formulas for Stress and Strain, 7th ed. (2002), Table 8.1 case
+    1e (simple supports, load at a; two loads superposed), shear term of Timoshenko beam theory
+    (Timoshenko & Gere, Mechanics of Materials; Cowper's kappa). Parameters: span_mm L between the
+    support bearings' load centres [mm]; load_offset_mm c from each support to the load [mm];
+    diameter_mm d of an equivalent solid round section [mm]; e_gpa [GPa]; nu [-]. Returns [um/N].
+    Validity: 0 < c <= L/2, slender enough for beam theory (L/d > ~1; the shear term covers stubby
+    shafts approximately), supports radially rigid (their compliance is the support bearings'), no
+    journal or eccentric steps (d is an equivalent diameter)."""
+    e = e_gpa * 1e3
+    inertia = math.pi * diameter_mm ** 4 / 64.0
+    area = math.pi * diameter_mm ** 2 / 4.0
+    g = shear_modulus_gpa(e_gpa, nu) * 1e3
+    c, span = load_offset_mm, span_mm
+    return (c * c * (3.0 * span - 4.0 * c) / (6.0 * e * inertia) + c / (circular_shear_coefficient(nu) * g * area)) * 1e3
+
+
+def crank_antisymmetric_deflection_um_per_n(span_mm: float, load_offset_mm: float, diameter_mm: float,
+                                            e_gpa: float, nu: float) -> float:
+    """Deflection under either load of a simply supported crankshaft carrying two equal, opposite
+    loads symmetric about mid-span (the two discs' radial forces, 180 degrees apart):
+
+        delta / P = c^2 (L - 2 c)^2 / (6 E I L) + c (L - 2 c) / (kappa G A L)
+
+    Source: Roark (7th ed.), Table 8.1 case 1e superposed (deflection at x = c of a load at c minus
+    that of a load at L - c: c^2 (L-c)^2 / (3 E I L) - c^2 (L^2 - 2 c^2) / (6 E I L)); the shear
+    term from the shear force P (L - 2 c) / L between support and load. Parameters and validity as
+    ``crank_symmetric_deflection_um_per_n``. Returns [um/N]."""
+    e = e_gpa * 1e3
+    inertia = math.pi * diameter_mm ** 4 / 64.0
+    area = math.pi * diameter_mm ** 2 / 4.0
+    g = shear_modulus_gpa(e_gpa, nu) * 1e3
+    c, span = load_offset_mm, span_mm
+    bend = c * c * (span - 2.0 * c) ** 2 / (6.0 * e * inertia * span)
+    shear = c * (span - 2.0 * c) / (circular_shear_coefficient(nu) * g * area * span)
+    return (bend + shear) * 1e3
+
+
+def shaft_torsion_compliance_rad_per_nm(length_mm: float, diameter_mm: float, e_gpa: float, nu: float) -> float:
+    """Twist of a solid round shaft per unit torque: phi / T = L / (G J),  J = pi d^4 / 32.
+
+    Source: Roark (7th ed.), Table 10.1 case 1 (solid circular section). Parameters: length_mm L
+    [mm], diameter_mm d [mm], e_gpa [GPa], nu [-]. Returns [rad/(N m)]. Validity: uniform
+    section, free warping (exact for a circle), elastic."""
+    g = shear_modulus_gpa(e_gpa, nu) * 1e3  # N/mm^2
+    return length_mm / (g * math.pi * diameter_mm ** 4 / 32.0) * 1e3
+
+
+def crank_torsion_output_compliance_rad_per_nm(twist_rad_per_nm: float, planet_radius_mm: float,
+                                               centre_gear_radius_mm: float, ratio: float, planets: int) -> float:
+    """Output compliance of the cranks' torsion, input locked:
+
+        C = (r_2 / (i r_1))^2 (L / (G J)) / n
+
+    Each of the n planets carries F_t = T / (i r_1 n) (``mesh_torsional_stiffness_nm_per_rad``), so
+    each crank carries the torque F_t r_2 between its planet gear and its eccentrics; a twist phi of
+    a crank turns the output by phi r_2 / (i r_1) (virtual work: n F_t r_2 phi = T theta). Source:
+    ours (the lever arms of Eq. (1), docs/model.md); the twist from
+    ``shaft_torsion_compliance_rad_per_nm``. Parameters: twist per torque [rad/(N m)], pitch radii
+    r_2 (planet), r_1 (centre gear) [mm], ratio i [-], planets n [-]. Returns [rad/(N m)] at the
+    output. Validity: equal load sharing of the planets."""
+    lever = planet_radius_mm / (ratio * centre_gear_radius_mm)
+    return lever * lever * twist_rad_per_nm / planets
+
+
+def tangential_output_compliance_rad_per_nm(deflection_um_per_n: float, lever_factor: float, bearings: int,
+                                            crank_circle_radius_mm: float) -> float:
+    """Output compliance of an element that yields tangentially at the cranks, loaded like the crank
+    needle bearings (each of the n_b = discs x cranks load points carries F = T k / (n_b a0)):
+
+        C = k^2 c / (n_b a0^2)
+
+    A tangential deflection delta = c F at every crank turns the discs by delta / a0 against the
+    carrier, the output by k delta / a0 (``cycloid_lever_factor``); virtual work gives the same.
+    Source: ours (docs/elastic.md). Parameters: deflection_um_per_n c [um/N], lever_factor k [-],
+    bearings n_b [-], crank_circle_radius_mm a0 [mm]. Returns [rad/(N m)]."""
+    a0_m = crank_circle_radius_mm * 1e-3
+    return lever_factor ** 2 * deflection_um_per_n * 1e-6 / (bearings * a0_m * a0_m)
+
+
+def pillar_deflection_um_per_n(length_mm: float, width_mm: float, depth_mm: float, e_gpa: float, nu: float) -> float:
+    """Sideways deflection of a carrier pillar clamped in both plates (fixed-guided beam) per unit
+    shear force, with shear:
+
+        delta / V = L^3 / (12 E I) + L / (kappa G A),   I = h w^3 / 12,  A = w h
+
+    Source: Roark (7th ed.), Table 8.1 case 1d (left end fixed, right end guided: y = -W l^3 /
+    (12 E I)), Cowper's shear coefficient of a rectangle. Parameters: length_mm L free length
+    between the plates [mm]; width_mm w tangential (in the direction of the deflection) [mm];
+    depth_mm h radial [mm]; e_gpa [GPa]; nu [-]. Returns [um/N]. Validity: plates rigid in their
+    plane and the pillar ends fully clamped (bolted joints and plate bending neglected: a lower
+    bound on the carrier's compliance); rectangular section standing for the real wedge-shaped
+    pillar."""
+    e = e_gpa * 1e3
+    g = shear_modulus_gpa(e_gpa, nu) * 1e3
+    inertia = depth_mm * width_mm ** 3 / 12.0
+    area = width_mm * depth_mm
+    return (length_mm ** 3 / (12.0 * e * inertia) + length_mm / (rectangular_shear_coefficient(nu) * g * area)) * 1e3
+
+
+def carrier_output_compliance_rad_per_nm(pillar_um_per_n: float, pillars: int, pillar_radius_mm: float,
+                                         lever_factor: float) -> float:
+    """Output compliance of the carrier's wind-up (end plate against output flange):
+
+        C = k^2 c_p / (4 n_p R_p^2)
+
+    The cranks bear on the flange and on the end plate through one support bearing each; with the
+    discs symmetric about mid-span each end takes half the crank forces, so the pillars carry the
+    torque k T / 2 from the end plate to the flange, a shear V = k T / (2 n_p R_p) each; the end
+    plate turns phi = c_p V / R_p; the cranks' end-plate ends move a0 phi, the discs (mid-span on
+    average) a0 phi / 2, the output k phi / 2. Source: ours (docs/elastic.md), a simplified model.
+    Parameters: pillar_um_per_n c_p [um/N] (``pillar_deflection_um_per_n``), pillars n_p [-],
+    pillar_radius_mm R_p (pitch radius of the pillars' centres) [mm], lever_factor k [-].
+    Returns [rad/(N m)]. Validity: plates rigid, pillars equal and equally spaced."""
+    rp_m = pillar_radius_mm * 1e-3
+    return lever_factor ** 2 * pillar_um_per_n * 1e-6 / (4.0 * pillars * rp_m * rp_m)
+
+
+def disc_translation_factor(crank_circle_radius_mm: float, disc_pitch_radius_mm: float) -> float:
+    """How much the disc's sideways motion on its needle bearings adds to their torsional compliance:
+
+        f = 1 + (a0 / rho)^2,   rho = a z_c (the disc's pitch radius)
+
+    Every pin's contact normal passes through the pitch point P at rho from the disc centre, so the
+    pins' resultant on a disc carrying torque T_d acts at P: a force T_d / rho across the eccentric
+    (and a radial part along it). Three needle bearings at a0 from the disc centre, 120 degrees
+    apart, of equal isotropic stiffness k_b: the moment turns the disc by T_d / (3 k_b a0^2), the
+    force translates it by T_d / (3 k_b rho) (sum c_i = 0 decouples the two); the point P, which
+    the pins hold, moves by T_d (1/rho + rho/a0^2) / (3 k_b) against T_d rho / (3 k_b a0^2) with the
+    disc centre held: the ratio f. Source: ours (docs/elastic.md; equilibrium of a rigid disc on
+    three springs, a closed form checked against a numeric 3-DOF solve in the tests).
+    Parameters: a0 [mm], rho [mm]. Returns f [-] (RV-80E class: 1 + (42 / 58.5)^2 = 1.515).
+    Validity: three (or more, equally spaced) equal bearings, linear about the loaded state; the
+    dead band of the clearance is not widened by the translation."""
+    return 1.0 + (crank_circle_radius_mm / disc_pitch_radius_mm) ** 2
+
+
+@nb.njit(cache=True)
+def pin_radial_closure(phi_rad, k1):
+    """Closure of the pin at phase phi per unit translation of the disc along its eccentric [um/um]:
+
+        M = (cos phi - K1) / sqrt(1 + K1^2 - 2 K1 cos phi)
+
+    The contact normal runs from the pitch point P (at a z_p from the housing centre along the
+    eccentric) to the pin centre (r_p at angle phi): M is its component along the eccentric. Its
+    component across, sin(phi) / sqrt(S), times a z_c is the pin's lever (``cycloid_lever_factor``).
+    Source: ours, from the cycloid's pitch-point property (Litvin & Fuentes 2004, ch. on cycloidal
+    gearing); checked against the exact geometry's gaps under a disc translation (tests).
+    Parameters: phi [rad], K1 [-]. Returns M [-] (> 0: a translation along the eccentric closes it)."""
+    c = math.cos(phi_rad)
+    return (c - k1) / math.sqrt(1.0 + k1 * k1 - 2.0 * k1 * c)

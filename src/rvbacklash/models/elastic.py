@@ -32,13 +32,14 @@ Monte-Carlo.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
 
 from rvbacklash._numba import nb
 from rvbacklash.design.elastic import ElasticInputs
+from rvbacklash.design.structure import StructureInputs
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
 from rvbacklash.geometry.cycloid import ContactGeometry
@@ -47,12 +48,20 @@ from rvbacklash.models.contact import Realization, mesh_table, unit_arrays, unit
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
-ELEMENTS = ("cycloid_pins", "crank_bearings", "involute_stage", "structure")
+# the elements of the chain, in series (the first four as before issue 16: their keys are an interface)
+ELEMENTS = ("cycloid_pins", "crank_bearings", "involute_stage", "structure", "crankshafts", "support_bearings",
+            "carrier", "main_bearings")
 N_ELEMENTS = len(ELEMENTS)
 # unit_hysteresis fills out[0:N_FIGURES]: lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin],
-# then the lost motion of each element [arcmin] (they sum to the lost motion)
+# then the lost motion of each element [arcmin] (they sum to the lost motion), then each element's
+# angle over the rigidity interval [arcmin] (they sum to the interval's angle: the compliance shares)
 LOST_MOTION, BACKLASH, RIGIDITY = 0, 1, 2
-N_FIGURES = 3 + N_ELEMENTS
+SHARES = 3 + N_ELEMENTS
+N_FIGURES = 3 + 2 * N_ELEMENTS
+N_STATE = 10  # chain_angles' warm starts and mirrored solves (pins, rollers, support bearings)
+TRANSLATION_ROUNDS = 60.0  # solve_pins' rounds (x solve, Newton step on the translations) at most
+TRANSLATION_STEP_UM = 1e-6  # solve_pins: a Newton step on the translations below this ends the rounds
+TINY_TORQUE = 1e-12  # of T_R: the torque at which a translating disc's dead-band edge is read
 RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
 TINY_LEVER = 1e-3  # of the largest lever: a contact that cannot bound a rotation (set_bounds)
 LN_FORCE_GUESS = 6.0  # ln(400 N): start of the inversion of Johnson's law (pin and roller loads 10 N - 10 kN)
@@ -90,6 +99,19 @@ class Chain(NamedTuple):
     rigidity_high: float
     friction_nm: float
     friction_fraction: float
+    # the whole torque path (design/structure.py; issue 16). Off: 1, inf, 0.
+    translation_factor: float  # disc_translation_factor: the needle bearings' elastic part, times this
+    radial_stiffness_n_per_um: float  # K_y of one disc's bearings along its eccentric (inf: no translation)
+    crank_compliance_rad_per_nm: float  # crankshafts: bending + shear + torsion, at the output
+    carrier_compliance_rad_per_nm: float
+    main_bearing_compliance_rad_per_nm: float  # stated only (derived: unloaded by a pure torque)
+    support_rollers: float  # rollers per support bearing (0: no support bearings modelled)
+    support_cos_alpha: float
+    support_clearance_um: float
+    support_a: float  # Palmgren's law of one roller between its raceways (two contacts)
+    support_symmetric: float
+    support_force_n_per_nm: float  # radial load of one support bearing per N m of T_el
+    translation_rounds: float  # solve_pins: at most this many x solves per torque with the discs translating
 
 
 @dataclass(frozen=True)
@@ -104,6 +126,8 @@ class ElasticModel:
     bearings: int  # crank needle bearings carrying the disc torque (discs x cranks)
     crank_circle_radius_mm: float
     raceway_diameter_mm: float
+    structure: StructureInputs | None = None  # the whole torque path's dimensions (None: rigid)
+    derived: bool = False  # the crankshafts, support bearings and carrier derived from ``structure``
 
     @property
     def lever_factor(self) -> float:
@@ -116,6 +140,11 @@ class ElasticModel:
     @property
     def structure_stiffness_nm_per_arcmin(self) -> float:
         return self.chain.structure_stiffness_nm_per_rad / ARCMIN_PER_RAD
+
+    @property
+    def translating(self) -> bool:
+        """The discs move sideways on their needle bearings (the pins' radial resultant followed)."""
+        return math.isfinite(self.chain.radial_stiffness_n_per_um)
 
 
 def elastic_model(problem: Problem) -> ElasticModel:
@@ -141,9 +170,10 @@ def elastic_model(problem: Problem) -> ElasticModel:
     k_inv = cm.mesh_torsional_stiffness_nm_per_rad(e.mesh_stiffness_n_per_mm_um, s1.face_width_mm,
                                                    geo.centre_gear_pitch_radius_mm, geo.ratio, s1.planets,
                                                    geo.pressure_angle_deg)
-    k_struct = cm.series_stiffness(*(x * ARCMIN_PER_RAD for x in (e.main_bearing_stiffness_nm_per_arcmin,
-                                                                   e.structure_stiffness_nm_per_arcmin)
-                                     if x is not None))
+    k_struct = (math.inf if e.structure_stiffness_nm_per_arcmin is None
+                else e.structure_stiffness_nm_per_arcmin * ARCMIN_PER_RAD)
+    c_main = (0.0 if e.main_bearing_stiffness_nm_per_arcmin is None
+              else 1.0 / (e.main_bearing_stiffness_nm_per_arcmin * ARCMIN_PER_RAD))
     a0 = geo.crank_circle_radius_mm
     bearings = g.discs * s1.planets
     dw, lw = e.crank_bearing_roller_diameter_mm, e.crank_bearing_roller_length_mm
@@ -175,9 +205,79 @@ def elastic_model(problem: Problem) -> ElasticModel:
         roller_a=roller_a, roller_b=roller_b, rollers_symmetric=1.0 if e.crank_bearing_rollers % 2 == 0 else 0.0,
         rated_torque_nm=e.rated_torque_nm,
         measuring_fraction=e.measuring_torque_fraction, rigidity_low=float(low), rigidity_high=float(high),
-        friction_nm=e.friction_torque_nm, friction_fraction=e.friction_load_fraction)
+        friction_nm=e.friction_torque_nm, friction_fraction=e.friction_load_fraction,
+        translation_factor=1.0, radial_stiffness_n_per_um=math.inf, crank_compliance_rad_per_nm=0.0,
+        carrier_compliance_rad_per_nm=0.0, main_bearing_compliance_rad_per_nm=c_main, support_rollers=0.0,
+        support_cos_alpha=1.0, support_clearance_um=0.0, support_a=1.0, support_symmetric=0.0,
+        support_force_n_per_nm=0.0, translation_rounds=TRANSLATION_ROUNDS)
     psi = 2 * math.pi * np.arange(e.crank_bearing_rollers) / e.crank_bearing_rollers
-    return ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
+    model = ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
+    return with_structure(problem, model) if design.structure is not None else model
+
+
+def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
+    """The model with the whole torque path of the design's [structure] table (docs/elastic.md,
+    "The whole torque path"): crankshafts, support bearings and carrier derived from their
+    dimensions (unless ``structure_stiffness_nm_per_arcmin`` states them: a measured value wins),
+    and the discs' sideways motion on their needle bearings. Computed once per design."""
+    st = problem.design.structure
+    e, c, geo = model.inputs, model.chain, problem.geometry
+    s1 = problem.design.first_stage
+    if problem.cycloid.discs != 2:
+        raise InputError("second_stage.discs", problem.cycloid.discs,
+                         "the derived torque path ([structure]) is for two discs, symmetric about the crankshaft's "
+                         "mid-span; allowed: discs = 2, or remove [structure] and state "
+                         "elastic.structure_stiffness_nm_per_arcmin")
+    k, a0, nb_ = c.lever_factor, model.crank_circle_radius_mm, model.bearings
+    changes: dict[str, float] = {}
+    derived = e.structure_stiffness_nm_per_arcmin is None
+    if derived:
+        offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
+        bend = cm.crank_symmetric_deflection_um_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
+                                                      st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
+        twist = cm.shaft_torsion_compliance_rad_per_nm(st.crankshaft_torsion_length_mm,
+                                                       st.crankshaft_torsion_diameter_mm or st.crankshaft_diameter_mm,
+                                                       st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
+        pillar = cm.pillar_deflection_um_per_n(st.pillar_length_mm, st.pillar_width_mm, st.pillar_depth_mm,
+                                               st.carrier_youngs_modulus_gpa, st.carrier_poisson_ratio)
+        changes.update(
+            crank_compliance_rad_per_nm=(
+                cm.tangential_output_compliance_rad_per_nm(bend, k, nb_, a0)
+                + cm.crank_torsion_output_compliance_rad_per_nm(twist, geo.planet_pitch_radius_mm,
+                                                                geo.centre_gear_pitch_radius_mm, geo.ratio,
+                                                                s1.planets)),
+            carrier_compliance_rad_per_nm=cm.carrier_output_compliance_rad_per_nm(pillar, st.carrier_pillars,
+                                                                                   st.pillar_radius_mm, k),
+            support_rollers=float(st.support_bearing_rollers),
+            support_cos_alpha=math.cos(math.radians(st.support_bearing_contact_angle_deg)),
+            support_clearance_um=st.support_bearing_clearance_um,
+            support_a=2.0 * cm.palmgren_law_a(st.support_bearing_roller_length_mm),
+            support_symmetric=1.0 if st.support_bearing_rollers % 2 == 0 else 0.0,
+            # each end of a crank takes half of both discs' forces on it (discs symmetric about mid-span)
+            support_force_n_per_nm=c.bearing_force_n_per_nm * problem.cycloid.discs / 2.0)
+    if st.disc_translation != "none":
+        rho = problem.cycloid.a_mm * problem.cycloid.zc
+        changes.update(translation_factor=cm.disc_translation_factor(a0, rho))
+    if st.disc_translation == "full":
+        changes.update(radial_stiffness_n_per_um=radial_stiffness_n_per_um(model, st))
+    return replace(model, chain=c._replace(**changes), structure=st, derived=derived)
+
+
+def radial_stiffness_n_per_um(model: ElasticModel, st: StructureInputs) -> float:
+    """K_y: one disc's support along its eccentric by its needle bearings (one per crank, in
+    parallel), each in series with its crank bent by the two discs' opposite radial forces
+    (``crank_antisymmetric_deflection_um_per_n``). A bearing's stiffness is its secant at the
+    rated torque's tangential load with zero clearance (a linear spring: the clearance stays a dead
+    band of the tangential direction only; docs/elastic.md). [N/um]"""
+    c = model.chain
+    load = c.rated_torque_nm * c.bearing_force_n_per_nm
+    g, lv, la, z, bounds, work = prepare_rollers(0.0, model.roller_cos, c)
+    deflection = solve_set(g, lv, la, c.roller_b, c.law_n, 1.0, z, bounds, work, load, 1.0, np.nan)
+    offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
+    crank = cm.crank_antisymmetric_deflection_um_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
+                                                       st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
+    cranks = model.bearings // model.geometry.discs
+    return cranks / (deflection / load + crank)
 
 
 # --- the contact law and a set of contacts -----------------------------------------------------
@@ -444,30 +544,46 @@ def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
 
 
 @nb.njit(nogil=True, cache=True)
-def prepare_pins(gap_um, lever_um_per_rad, chi, c):
-    """The unit's pin contacts referred to the output (levers / k), reduced to those that close
-    somewhere between the rotations at -T_R and +T_R (bounded by ``_pins_bound``), with their
-    contact-law coefficients and bounds: (gaps, levers, law_a, count, bounds, work)."""
+def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
+    """The unit's pin contacts referred to the output (levers / k), with their contact-law
+    coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, index,
+    shifted gaps, shifted bounds).
+    Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
+    ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
+    rotation closes, the tip and root pins); each with its closure per um of its disc's translation
+    along the eccentric (``compliance.pin_radial_closure``), its disc, and scratch: yw (7, discs)
+    holds the discs' translations [um] (row 0), sums (rows 1-4) and the last translations solved
+    under a positive and a negative load (rows 5, 6: the next solve's start), then the original
+    indices, the shifted gaps and their bounds (``solve_pins``)."""
     discs, zp = gap_um.shape
     g = gap_um.ravel()
     lev = lever_um_per_rad.ravel() / c.lever_factor
     m = g.size
     bounds = np.empty(5)
     set_bounds(g, lev, m, bounds)
-    x_hi = _pins_bound(g, lev, chi, zp, discs, bounds, c, c.rated_torque_nm)
-    x_lo = _pins_bound(g, lev, chi, zp, discs, bounds, c, -c.rated_torque_nm)
+    x_hi, x_lo = np.inf, -np.inf
+    if not every:
+        x_hi = _pins_bound(g, lev, chi, zp, discs, bounds, c, c.rated_torque_nm)
+        x_lo = _pins_bound(g, lev, chi, zp, discs, bounds, c, -c.rated_torque_nm)
     keep = 0
     gk = np.empty(m)
     lk = np.empty(m)
     ak = np.empty(m)
+    rk = np.zeros(m)
+    dk = np.zeros(m, dtype=np.int64)
+    ik = np.zeros(m, dtype=np.int64)
     for j in range(m):
-        if lev[j] * x_hi - g[j] > 0.0 or lev[j] * x_lo - g[j] > 0.0:
+        if every or lev[j] * x_hi - g[j] > 0.0 or lev[j] * x_lo - g[j] > 0.0:
+            phi = pin_phase(j, chi, zp, discs)
             gk[keep] = g[j]
             lk[keep] = lev[j]
-            ak[keep] = pin_law_a(pin_phase(j, chi, zp, discs), c)
+            ak[keep] = pin_law_a(phi, c)
+            rk[keep] = cm.pin_radial_closure(phi, c.k1)
+            dk[keep] = j // zp
+            ik[keep] = j
             keep += 1
     set_bounds(gk, lk, keep, bounds)
-    return gk, lk, ak, keep, bounds, np.zeros(keep)
+    return gk, lk, ak, keep, bounds, np.zeros(keep), rk, dk, np.zeros((7, discs)), ik[:keep], np.empty(keep), np.empty(5)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -483,15 +599,111 @@ def prepare_rollers(crank_clearance_um, roller_cos, c):
 
 
 @nb.njit(nogil=True, cache=True)
-def chain_angles(t_el, side, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, out):
+def prepare_support(c):
+    """One crank support (tapered roller) bearing's rollers under a radial load, axially held (the
+    two of a crank face each other and carry equal loads, so their induced axial forces cancel):
+    roller i at psi_i = 2 pi i / Z closes, normal to its raceway, by (delta_r cos psi_i - G / 2)
+    cos(alpha); its normal force Q_i bears cos(alpha) cos(psi_i) of itself radially. Levers
+    cos(alpha) cos(psi_i), gaps G cos(alpha) / 2, Palmgren's law (Harris & Kotzalas, Rolling
+    Bearing Analysis 5th ed., the load distribution of a radially loaded roller bearing with
+    clearance; docs/elastic.md): (gaps, levers, law_a, count, bounds, work)."""
+    z = int(c.support_rollers)
+    lv = np.empty(z)
+    for i in range(z):
+        lv[i] = c.support_cos_alpha * math.cos(2.0 * math.pi * i / z)
+    g = np.full(z, 0.5 * c.support_clearance_um * c.support_cos_alpha)
+    la = np.full(z, c.support_a)
+    bounds = np.empty(5)
+    set_bounds(g, lv, z, bounds)
+    return g, lv, la, z, bounds, np.zeros(z)
+
+
+@nb.njit(nogil=True, cache=True)
+def _mirrored_solve(st, load, s, b, n, scale, state, i):
+    """A roller set's deflection under ``load`` (side s at zero load), from state[i] (the + start),
+    state[i + 1] (the - start), state[i + 2], state[i + 3] (the last |load| and |deflection|: a
+    symmetric set's mirrored load needs no solve, ``symmetric`` = state's caller)."""
+    g, lv, la, m, bounds, work = st
+    k = i if s > 0.0 else i + 1
+    x = solve_set(g, lv, la, b, n, scale, m, bounds, work, load, s, state[k])
+    if load != 0.0:
+        state[k] = x
+    return x
+
+
+@nb.njit(nogil=True, cache=True)
+def solve_pins(pins, load, side, guess, c):
+    """The pins' output angle x [rad] at chain torque ``load`` (``solve_set``; at 0 the dead band's
+    edge on ``side``). With the discs translating (docs/elastic.md): each disc q also moves by y_q
+    [um] along its eccentric, which closes pin j by radial_j y_q, until its pins' radial resultant
+    balances its bearings: r_q = sum_j F_j radial_j + K_y y_q = 0. Solved by turns: x exactly for
+    the y's held (the pins' gaps shifted by radial_j y_q: the bracketed solver unchanged), then a
+    Newton step on the y's with x re-solved (J = diag(K_yy,q + K_y) - K_xy K_xy^T / K_xx), from the
+    last y's, until the residuals are below 1e-10 of the forces. The dead band's edge of a
+    translating disc is read at TINY_TORQUE (its radial balance needs a direction)."""
+    pg, pl, pa, pm, pb, pw, pr, pd, py, _, ge, gb = pins
+    ky = c.radial_stiffness_n_per_um
+    if not ky < np.inf:
+        return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess)
+    t = side * TINY_TORQUE * c.rated_torque_nm if load == 0.0 else load
+    discs = py.shape[1]
+    row = 5 if t > 0.0 else 6
+    py[0, :] = py[row, :]  # start from the last solution under a load of the same sign
+    jac = np.empty((discs, discs))
+    res = np.empty(discs)
+    x = guess
+    for _ in range(int(c.translation_rounds)):
+        for j in range(pm):
+            ge[j] = pg[j] - pr[j] * py[0, pd[j]]
+        set_bounds(ge, pl, pm, gb)
+        x = solve_set(ge, pl, pa, c.law_b, c.law_n, 1e-6, pm, gb, pw, t, side, x)
+        py[1:, :] = 0.0
+        kxx = 0.0
+        for j in range(pm):
+            if pw[j] > 0.0:
+                d = pl[j] * x - ge[j]
+                f, df, _e = law_step(d, pa[j], c.law_b, c.law_n, pw[j]) if d > 0.0 else (0.0, 0.0, 0.0)
+                q = pd[j]
+                py[1, q] += f * pr[j]
+                py[2, q] += df * pr[j] * pr[j]
+                py[3, q] += df * pr[j] * pl[j]
+                py[4, q] += f * abs(pr[j])
+                kxx += df * pl[j] * pl[j]
+        done = True
+        for q in range(discs):
+            res[q] = py[1, q] + ky * py[0, q]
+            if abs(res[q]) > 1e-9 * (py[4, q] + ky * abs(py[0, q])) + 1e-9:
+                done = False
+        if done:
+            break
+        for q in range(discs):
+            for r in range(discs):
+                jac[q, r] = -py[3, q] * py[3, r] / kxx if kxx > 0.0 else 0.0
+            jac[q, q] += py[2, q] + ky
+        step = np.linalg.solve(jac, res)
+        small = True
+        for q in range(discs):
+            py[0, q] -= step[q]
+            small = small and abs(step[q]) <= TRANSLATION_STEP_UM
+        if small:  # a last step this small is taken without re-solving x (its effect is below the figures' digits)
+            break
+    py[row, :] = py[0, :]
+    return x
+
+
+@nb.njit(nogil=True, cache=True)
+def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, out):
     """Output angle of each element [rad] (ELEMENTS order) when the chain carries t_el [N m];
-    at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state`` (6,): the
-    last pins and rollers solutions for positive and negative loads, starts for the next solve
+    at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state`` (N_STATE,):
+    the last pins and rollers solutions for positive and negative loads, starts for the next solve
     (NaN: none), then the last rollers' load and deflection (the roller layout is symmetric when
-    their number is even: a mirrored load needs no solve); updated."""
+    their number is even: a mirrored load needs no solve), then the same for the support bearings;
+    updated. A translating disc's dead-band edge is read at TINY_TORQUE (its radial balance needs
+    a load direction)."""
     s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
     k = 0 if s > 0.0 else 2
-    x = solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, t_el, s, state[k])
+    x = solve_pins(pins, t_el, s, state[k], c)
+    rg, rl, ra, rm, rb, rw = rollers
     load = t_el * c.bearing_force_n_per_nm
     if c.rollers_symmetric != 0.0 and load != 0.0 and abs(load) == state[4]:
         dr = s * state[5]  # an even number of rollers, one on the load line: the mirror of the last solve
@@ -503,13 +715,31 @@ def chain_angles(t_el, side, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, bac
         state[k] = x
         state[k + 1] = dr
     out[0] = x
+    if c.translation_factor != 1.0:  # the translation across the eccentric adds to the elastic part only
+        edge = 0.0
+        if rb[2] <= rb[0]:  # a clearance: the dead band's edge on this side
+            edge = rb[0] if s > 0.0 else rb[2]
+        dr = edge + (dr - edge) * c.translation_factor
     out[1] = dr * c.bearing_angle_rad_per_um
     out[2] = 0.5 * s * backlash1_rad + t_el / c.involute_stiffness_nm_per_rad
     out[3] = t_el / c.structure_stiffness_nm_per_rad
+    out[4] = t_el * c.crank_compliance_rad_per_nm
+    out[5] = 0.0
+    if c.support_rollers > 0.0:
+        sload = t_el * c.support_force_n_per_nm
+        if c.support_symmetric != 0.0 and sload != 0.0 and abs(sload) == state[8]:
+            ds = s * state[9]
+        else:
+            ds = _mirrored_solve(support, sload, s, 0.0, cm.PALMGREN_EXPONENT, 1.0, state, 6)
+            state[8] = abs(sload)
+            state[9] = abs(ds)
+        out[5] = ds * c.bearing_angle_rad_per_um
+    out[6] = t_el * c.carrier_compliance_rad_per_nm
+    out[7] = t_el * c.main_bearing_compliance_rad_per_nm
 
 
 @nb.njit(nogil=True, cache=True)
-def branch_angles(torque_nm, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, out):
+def branch_angles(torque_nm, branch, pins, rollers, support, backlash1_rad, c, state, out):
     """Element angles [rad] on the rising (RISE: load+, unload-) or falling (FALL: load-, unload+)
     branch at applied torque T, in the steady loop 0 -> +T_R -> 0 -> -T_R -> 0: the output sticks
     at the turning point until friction is overcome; where the chain's torque passes 0 the value
@@ -519,55 +749,59 @@ def branch_angles(torque_nm, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb,
     if branch == RISE:
         stick = cm.applied_torque_nm(cm.elastic_torque_nm(-tr, False, tf, mu), True, tf, mu)
         if torque_nm < stick:  # still held where the falling branch left it at -T_R
-            chain_angles(cm.elastic_torque_nm(-tr, False, tf, mu), 1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb,
-                         rw, backlash1_rad, c, state, out)
+            chain_angles(cm.elastic_torque_nm(-tr, False, tf, mu), 1.0, pins, rollers, support, backlash1_rad, c,
+                         state, out)
         else:
-            chain_angles(cm.elastic_torque_nm(torque_nm, True, tf, mu), -1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm,
-                         rb, rw, backlash1_rad, c, state, out)
+            chain_angles(cm.elastic_torque_nm(torque_nm, True, tf, mu), -1.0, pins, rollers, support, backlash1_rad,
+                         c, state, out)
     else:
         stick = cm.applied_torque_nm(cm.elastic_torque_nm(tr, True, tf, mu), False, tf, mu)
         if torque_nm > stick:
-            chain_angles(cm.elastic_torque_nm(tr, True, tf, mu), -1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw,
-                         backlash1_rad, c, state, out)
+            chain_angles(cm.elastic_torque_nm(tr, True, tf, mu), -1.0, pins, rollers, support, backlash1_rad, c,
+                         state, out)
         else:
-            chain_angles(cm.elastic_torque_nm(torque_nm, False, tf, mu), 1.0, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm,
-                         rb, rw, backlash1_rad, c, state, out)
+            chain_angles(cm.elastic_torque_nm(torque_nm, False, tf, mu), 1.0, pins, rollers, support, backlash1_rad,
+                         c, state, out)
 
 
 @nb.njit(nogil=True, cache=True)
-def loop_figures(pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, out):
+def loop_figures(pins, rollers, support, backlash1_rad, c, state, out):
     """The test-bench figures of a prepared unit into out[0:N_FIGURES] (module docstring):
 
         lost motion = 1/2 [theta(+x T_R, load) + theta(+x T_R, unload)] - 1/2 [theta(-x T_R, load) + theta(-x T_R, unload)]
         backlash    = theta(0, unload+) - theta(0, unload-)           (the loop's width at zero torque)
         rigidity    = 2 (h - l) T_R / ([theta(h T_R) - theta(l T_R)]_load+ + [theta(-l T_R) - theta(-h T_R)]_load-)
 
-    [arcmin, arcmin, N m/arcmin], then the lost motion of each element [arcmin]. The points are
-    evaluated from small to large torques so that each solve starts from the previous one, a
-    torque and its mirror in turn (the rollers' solve is shared)."""
+    [arcmin, arcmin, N m/arcmin], then the lost motion of each element [arcmin], then each
+    element's part of the rigidity's angle span [arcmin] (its compliance share times the span).
+    The points are evaluated from small to large torques so that each solve starts from the
+    previous one, a torque and its mirror in turn (the rollers' solves are shared). ``state``:
+    ``new_state()``; it holds the reach of the pins' solves afterwards."""
     tr = c.rated_torque_nm
     xt = c.measuring_fraction * tr
     a = np.empty(N_ELEMENTS)
-    state = np.full(6, np.nan)
-    branch_angles(0.0, FALL, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+    branch_angles(0.0, FALL, pins, rollers, support, backlash1_rad, c, state, a)
     width = a.sum()
-    branch_angles(0.0, RISE, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+    branch_angles(0.0, RISE, pins, rollers, support, backlash1_rad, c, state, a)
     width -= a.sum()
     lm = np.zeros(N_ELEMENTS)
     for torque, branch, w in ((xt, RISE, 0.5), (-xt, FALL, -0.5), (xt, FALL, 0.5), (-xt, RISE, -0.5)):
-        branch_angles(torque, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
+        branch_angles(torque, branch, pins, rollers, support, backlash1_rad, c, state, a)
         for e in range(N_ELEMENTS):
             lm[e] += w * a[e]
-    span = 0.0
+    span = np.zeros(N_ELEMENTS)
     for torque, branch, w in ((c.rigidity_low * tr, RISE, -1.0), (-c.rigidity_low * tr, FALL, 1.0),
                               (c.rigidity_high * tr, RISE, 1.0), (-c.rigidity_high * tr, FALL, -1.0)):
-        branch_angles(torque, branch, pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, backlash1_rad, c, state, a)
-        span += w * a.sum()
+        branch_angles(torque, branch, pins, rollers, support, backlash1_rad, c, state, a)
+        for e in range(N_ELEMENTS):
+            span[e] += w * a[e]
+    total = span.sum()
     out[LOST_MOTION] = lm.sum() * ARCMIN_PER_RAD
     out[BACKLASH] = width * ARCMIN_PER_RAD
-    out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (span * ARCMIN_PER_RAD) if span > 0.0 else np.inf
+    out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (total * ARCMIN_PER_RAD) if total > 0.0 else np.inf
     for e in range(N_ELEMENTS):
         out[3 + e] = lm[e] * ARCMIN_PER_RAD
+        out[SHARES + e] = span[e] * ARCMIN_PER_RAD
 
 
 @nb.njit(nogil=True, cache=True)
@@ -581,9 +815,15 @@ def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, cr
     contact); involute_backlash_rad: the involute stage's backlash at the output [rad] (negative
     read as 0); crank_clearance_um: radial clearance G_r of the crank needle bearings [um]
     (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i)."""
-    pg, pl, pa, pm, pb, pw = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c)
-    rg, rl, ra, rm, rb, rw = prepare_rollers(crank_clearance_um, roller_cos, c)
-    loop_figures(pg, pl, pa, pm, pb, pw, rg, rl, ra, rm, rb, rw, max(involute_backlash_rad, 0.0), c, out)
+    pins = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c, c.radial_stiffness_n_per_um < np.inf)
+    loop_figures(pins, prepare_rollers(crank_clearance_um, roller_cos, c), prepare_support(c),
+                 max(involute_backlash_rad, 0.0), c, new_state(), out)
+
+
+@nb.njit(nogil=True, cache=True)
+def new_state():
+    """chain_angles' state before the first solve: no starts yet."""
+    return np.full(N_STATE, np.nan)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -656,36 +896,53 @@ class PreparedUnit:
         law = np.empty(unit.gap_um.shape)
         fill_pin_law(unit.chi_rad, c, law)
         self.law_a = law
-        self.pins = prepare_pins(unit.gap_um, unit.lever_um_per_rad, float(unit.chi_rad), c)
         self.rollers = prepare_rollers(unit.crank_clearance_um, model.roller_cos, c)
+        self.support = prepare_support(c)
         self.b1 = max(unit.involute_backlash_rad, 0.0)
+        self.pins = prepare_pins(unit.gap_um, unit.lever_um_per_rad, float(unit.chi_rad), c, model.translating)
 
     def figures(self) -> np.ndarray:
         out = np.empty(N_FIGURES)
-        loop_figures(*self.pins, *self.rollers, self.b1, self.model.chain, out)
+        loop_figures(self.pins, self.rollers, self.support, self.b1, self.model.chain, new_state(), out)
         return out
 
     def branch(self, torque_nm: float, branch: int) -> np.ndarray:
         """Element angles [rad] on a branch (``branch_angles``)."""
         out = np.empty(N_ELEMENTS)
-        branch_angles(float(torque_nm), branch, *self.pins, *self.rollers, self.b1, self.model.chain,
-                      np.full(6, np.nan), out)
+        branch_angles(float(torque_nm), branch, self.pins, self.rollers, self.support, self.b1, self.model.chain,
+                      new_state(), out)
         return out
 
     def chain(self, elastic_torque_nm: float, side: float) -> np.ndarray:
         """Element angles [rad] at a chain torque (``chain_angles``), e.g. both edges of the dead bands."""
         out = np.empty(N_ELEMENTS)
-        chain_angles(float(elastic_torque_nm), float(side), *self.pins, *self.rollers, self.b1, self.model.chain,
-                     np.full(6, np.nan), out)
+        chain_angles(float(elastic_torque_nm), float(side), self.pins, self.rollers, self.support, self.b1,
+                     self.model.chain, new_state(), out)
         return out
 
+    def translation_um(self) -> np.ndarray:
+        """Each disc's translation along its eccentric [um] at the last evaluation (0: none)."""
+        if not self.model.translating:
+            return np.zeros(self.unit.gap_um.shape[0])
+        return self.pins[8][0].copy()
+
     def pin_closures_um(self, pins_angle_rad: float) -> np.ndarray:
-        """Closure lever theta - gap of every pin of every disc [um] (> 0: in contact)."""
+        """Closure lever theta + radial y - gap of every pin of every disc [um] (> 0: in contact),
+        with the discs' translations of the last evaluation."""
         u = self.unit
-        return u.lever_um_per_rad / self.model.chain.lever_factor * pins_angle_rad - u.gap_um
+        d = u.lever_um_per_rad / self.model.chain.lever_factor * pins_angle_rad - u.gap_um
+        if self.model.translating:
+            discs, zp = u.gap_um.shape
+            phi = np.array([[pin_phase(q * zp + j, float(u.chi_rad), zp, discs) for j in range(zp)]
+                            for q in range(discs)])
+            k1 = self.model.chain.k1
+            radial = (np.cos(phi) - k1) / np.sqrt(1.0 + k1 * k1 - 2.0 * k1 * np.cos(phi))
+            d = d + radial * self.translation_um()[:, None]
+        return d
 
     def pin_forces_n(self, pins_angle_rad: float) -> np.ndarray:
-        """Force of every pin of every disc [N] at the pins' output angle."""
+        """Force of every pin of every disc [N] at the pins' output angle (and the discs' translations
+        of the last evaluation)."""
         c = self.model.chain
         d = self.pin_closures_um(pins_angle_rad)
         f = np.zeros_like(d)
