@@ -26,7 +26,7 @@ from rvbacklash.analysis.contact import unit_realization
 from rvbacklash.design.measured import load_units
 from rvbacklash.errors import InputError
 from rvbacklash.models import compliance as cm
-from rvbacklash.models.elastic import (BACKLASH, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE, ElasticModel,
+from rvbacklash.models.elastic import (BACKLASH, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE, SHARES, ElasticModel,
                                        ElasticUnit, PreparedUnit, elastic_model, nominal_unit, other_stages_nominal,
                                        unit_from_realization)
 from rvbacklash.problem import Problem
@@ -41,6 +41,11 @@ ASSUMPTIONS = (
     "stiffness), stated structure stiffnesses; disc and crank-bearing deflections referred to the output by the lever "
     "factor; Coulomb friction at the output in parallel; rigid discs, housing and crankshafts unless stated "
     "(docs/elastic.md)")
+ASSUMPTIONS_STRUCTURE = (
+    "; the whole torque path from [structure]: crankshafts (beams with shear between their support bearings, "
+    "torsion to the planet gear), tapered-roller support bearings (roller load zone, clearance as a dead band), "
+    "carrier pillars (clamped beams), the discs' sideways motion on their needle bearings ({translation}); main "
+    "bearings unloaded by a pure torque; disc bodies, housing, plates and joints rigid")
 
 
 @dataclass(frozen=True, repr=False)
@@ -79,7 +84,12 @@ class HysteresisResult(Result):
     lever_arms: str
     lever_factor: float
     involute_stiffness_nm_per_arcmin: float
-    structure_stiffness_nm_per_arcmin: float | None  # None: rigid (not modelled)
+    structure_stiffness_nm_per_arcmin: float | None  # stated (elastic.structure_stiffness_nm_per_arcmin); None: not stated
+    structure_model: str  # derived ([structure]) | stated (structure_stiffness_nm_per_arcmin) | rigid (neither)
+    disc_translation: str  # across | full | none ([structure].disc_translation; none without [structure])
+    compliance_share: dict[str, float]  # of each element in the rigidity's angle span; they sum to 1
+    element_stiffness_nm_per_arcmin: dict[str, float | None]  # each element's secant over the interval; None: rigid
+    wind_up_arcmin: float  # lost motion less the dead bands: the elastic part (and friction's)
     crank_clearance_um: float
     involute_backlash_arcmin: float
     crank_angle_deg: float
@@ -170,6 +180,9 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
     pu = PreparedUnit(model, unit)
     c = model.chain
     fig = pu.figures()
+    spans = fig[SHARES:]
+    total = float(spans.sum())
+    torque_span = 2.0 * (c.rigidity_high - c.rigidity_low) * c.rated_torque_nm
     loop, _ = build_loop(pu, int(points))
     tr = c.rated_torque_nm
     at_rated = pu.branch(tr, RISE)[0]
@@ -183,6 +196,12 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         backlash_arcmin=float(fig[BACKLASH]), torsional_rigidity_nm_per_arcmin=float(fig[RIGIDITY]),
         lost_motion_share_arcmin={k: float(v) for k, v in zip(ELEMENTS, fig[3:])},
         dead_band_arcmin={k: float(v * ARCMIN_PER_RAD) for k, v in zip(ELEMENTS, free)},
+        compliance_share={k: float(v / total) if total > 0 else 0.0 for k, v in zip(ELEMENTS, spans)},
+        element_stiffness_nm_per_arcmin={k: float(torque_span / v) if v > 0 else None for k, v in zip(ELEMENTS, spans)},
+        wind_up_arcmin=float(fig[LOST_MOTION] - free.sum() * ARCMIN_PER_RAD),
+        structure_model=("derived" if model.derived else
+                         "stated" if e.structure_stiffness_nm_per_arcmin is not None else "rigid"),
+        disc_translation=model.structure.disc_translation if model.structure is not None else "none",
         pins_in_contact_at_rated=tuple(int(n) for n in (pu.pin_closures_um(at_rated) > 0).sum(axis=1)),
         pins_in_contact_at_measuring=tuple(int(n) for n in (pu.pin_closures_um(at_x) > 0).sum(axis=1)),
         max_pin_force_at_rated_n=float(forces.max()), friction_torque_nm=c.friction_nm,
@@ -192,7 +211,9 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
                                            if math.isfinite(model.structure_stiffness_nm_per_arcmin) else None),
         crank_clearance_um=float(unit.crank_clearance_um),
         involute_backlash_arcmin=float(max(unit.involute_backlash_rad, 0.0) * ARCMIN_PER_RAD),
-        crank_angle_deg=float(math.degrees(unit.chi_rad)), assumptions=ASSUMPTIONS, loop=loop,
+        crank_angle_deg=float(math.degrees(unit.chi_rad)),
+        assumptions=ASSUMPTIONS + (ASSUMPTIONS_STRUCTURE.format(translation=model.structure.disc_translation)
+                                   if model.structure is not None else ""), loop=loop,
         pin_forces_at_rated_n=forces)
 
 

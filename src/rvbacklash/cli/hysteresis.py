@@ -34,16 +34,27 @@ def print_hysteresis(result, console) -> None:
               f"per disc; largest pin force {r.max_pin_force_at_rated_n:.0f} N")
     t.add_row(f"pins in contact at +{x:g} % T_R", " + ".join(map(str, r.pins_in_contact_at_measuring)), "per disc")
     console.print(t)
-    s = Table(title="Where the lost motion comes from", title_justify="left")
-    for col in ("element", "lost motion [arcmin]", "share", "dead band [arcmin]"):
+    s = Table(title="Where the lost motion and the compliance are", title_justify="left")
+    for col in ("element", "lost motion [arcmin]", "share", "dead band [arcmin]", "wind-up [arcmin]",
+                "stiffness [N m/arcmin]", "compliance share"):
         s.add_column(escape(col), justify="left" if col == "element" else "right")
     total = r.lost_motion_arcmin
     for name, v in r.lost_motion_share_arcmin.items():
+        k = r.element_stiffness_nm_per_arcmin[name]
+        if k is None and v == 0.0 and r.dead_band_arcmin[name] == 0.0:
+            continue  # an element this design does not model (rigid): its row says nothing
         s.add_row(name.replace("_", " "), f"{v:.4f}", f"{v / total:.1%}" if total else "-",
-                  f"{r.dead_band_arcmin[name]:.4f}")
+                  f"{r.dead_band_arcmin[name]:.4f}", f"{v - r.dead_band_arcmin[name]:.4f}",
+                  "rigid" if k is None else f"{k:.4g}", f"{r.compliance_share[name]:.1%}")
+    s.add_row("total", f"{total:.4f}", "100.0%" if total else "-", f"{total - r.wind_up_arcmin:.4f}",
+              f"{r.wind_up_arcmin:.4f}", f"{r.torsional_rigidity_nm_per_arcmin:.4g}", "100.0%")
     console.print(s)
-    structure = "rigid (not modelled)" if r.structure_stiffness_nm_per_arcmin is None else \
-        f"{r.structure_stiffness_nm_per_arcmin:.0f} N m/arcmin"
+    if r.structure_model == "derived":
+        structure = f"derived from [structure] (disc translation: {r.disc_translation})"
+    elif r.structure_model == "stated":
+        structure = f"stated {r.structure_stiffness_nm_per_arcmin:.0f} N m/arcmin"
+    else:
+        structure = "rigid (no [structure] table: the rigidity is an upper bound)"
     console.print(f"[dim]{escape(r.contact_law)} contacts, lever factor {r.lever_factor:.4f} ({escape(r.lever_arms)}), "
                   f"involute mesh {r.involute_stiffness_nm_per_arcmin:.3g} N m/arcmin, structure {structure}, friction "
                   f"{r.friction_torque_nm:g} N m + {r.friction_load_fraction:g} |T|; crank clearance "
