@@ -26,7 +26,7 @@ def main() -> None:
     from rvbacklash import prepare, simulate
     from rvbacklash.analysis.simulation import default_workers
     from rvbacklash.models.elastic import elastic_model
-    from rvbacklash.sampling.elastic_source import UnitBatch, evaluate_batch, sample_units
+    from rvbacklash.sampling.elastic_source import evaluate_batch, sample_units
 
     problem = prepare("rv80e")
     model = elastic_model(problem)
@@ -37,13 +37,12 @@ def main() -> None:
     t = time.perf_counter()
     units = sample_units(problem, 1, a.units)
     draw = a.units / (time.perf_counter() - t)
-    evaluate_batch(model, UnitBatch(units.gap_um[:10], units.lever_um_per_rad[:10], units.chi_rad[:10],
-                                    units.involute_backlash_rad[:10], units.crank_clearance_um[:10]))  # compile / load
+    rigid = elastic_model(prepare(problem.design.model_copy(update={"structure": None})))
+    evaluate_batch(model, units.take(slice(0, 10)))  # compile / load
     parts = np.array_split(np.arange(a.units), workers)
 
-    def run(idx):
-        return evaluate_batch(model, UnitBatch(units.gap_um[idx], units.lever_um_per_rad[idx], units.chi_rad[idx],
-                                               units.involute_backlash_rad[idx], units.crank_clearance_um[idx]))
+    def run(idx, m=model):
+        return evaluate_batch(m, units.take(idx))
 
     t = time.perf_counter()
     with ThreadPoolExecutor(workers) as pool:
@@ -52,6 +51,9 @@ def main() -> None:
     t = time.process_time()
     run(np.arange(min(a.units, 5000)))
     cpu = min(a.units, 5000) / (time.process_time() - t)
+    t = time.process_time()
+    run(np.arange(min(a.units, 5000)), rigid)
+    cpu_rigid = min(a.units, 5000) / (time.process_time() - t)
 
     simulate(problem, samples=2000, seed=0, model="elastic")
     t = time.perf_counter()
@@ -65,6 +67,7 @@ def main() -> None:
     print(f"rv80e, {problem.cycloid.zp} pins x {problem.cycloid.discs} discs, {workers} threads")
     print(f"elastic, per-unit evaluation ({a.units} pre-drawn units):     {evaluation:10,.0f} units/s "
           f"({cpu:,.0f} units/s per core of CPU time)")
+    print(f"elastic, structure rigid (no [structure]), per core of CPU time: {cpu_rigid:10,.0f} units/s")
     print(f"elastic, drawing only (compiled, with the gaps, 1 thread):    {draw:10,.0f} units/s")
     print(f"elastic, end to end through the engine ({n} units):       {elastic:10,.0f} units/s")
     print(f"contact (rigid), end to end through the engine ({n} units): {contact:10,.0f} units/s")

@@ -138,7 +138,7 @@ def support_set(model, clearance_um=0.0):
 
 
 def support_deflection(model, load_n, clearance_um=0.0):
-    g, lv, la, z, bounds, work = support_set(model, clearance_um)
+    g, lv, la, z, bounds, work, _ = support_set(model, clearance_um)
     return el.solve_set(g, lv, la, 0.0, cm.PALMGREN_EXPONENT, 1.0, z, bounds, work, load_n, 1.0, np.nan), (g, lv, la)
 
 

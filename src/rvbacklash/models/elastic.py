@@ -61,6 +61,7 @@ N_FIGURES = 3 + 2 * N_ELEMENTS
 N_STATE = 10  # chain_angles' warm starts and mirrored solves (pins, rollers, support bearings)
 TRANSLATION_ROUNDS = 60.0  # solve_pins' rounds (x solve, Newton step on the translations) at most
 TRANSLATION_STEP_UM = 1e-6  # solve_pins: a Newton step on the translations below this ends the rounds
+SUPPORT_MEMO = 24  # torques remembered by a support set (the loop's figures read ten)
 TINY_TORQUE = 1e-12  # of T_R: the torque at which a translating disc's dead-band edge is read
 RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
 TINY_LEVER = 1e-3  # of the largest lever: a contact that cannot bound a rotation (set_bounds)
@@ -606,7 +607,10 @@ def prepare_support(c):
     cos(alpha); its normal force Q_i bears cos(alpha) cos(psi_i) of itself radially. Levers
     cos(alpha) cos(psi_i), gaps G cos(alpha) / 2, Palmgren's law (Harris & Kotzalas, Rolling
     Bearing Analysis 5th ed., the load distribution of a radially loaded roller bearing with
-    clearance; docs/elastic.md): (gaps, levers, law_a, count, bounds, work)."""
+    clearance; docs/elastic.md): (gaps, levers, law_a, count, bounds, work, memo). The support
+    bearings' deflection is the same function of the chain's torque for every unit of a design:
+    memo (3, SUPPORT_MEMO) keeps the torques, sides and deflections solved, so that a batch of
+    units (``evaluate_units``) solves each torque of the loop once."""
     z = int(c.support_rollers)
     lv = np.empty(z)
     for i in range(z):
@@ -615,7 +619,7 @@ def prepare_support(c):
     la = np.full(z, c.support_a)
     bounds = np.empty(5)
     set_bounds(g, lv, z, bounds)
-    return g, lv, la, z, bounds, np.zeros(z)
+    return g, lv, la, z, bounds, np.zeros(z), np.full((3, SUPPORT_MEMO), np.nan)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -623,7 +627,7 @@ def _mirrored_solve(st, load, s, b, n, scale, state, i):
     """A roller set's deflection under ``load`` (side s at zero load), from state[i] (the + start),
     state[i + 1] (the - start), state[i + 2], state[i + 3] (the last |load| and |deflection|: a
     symmetric set's mirrored load needs no solve, ``symmetric`` = state's caller)."""
-    g, lv, la, m, bounds, work = st
+    g, lv, la, m, bounds, work, _ = st
     k = i if s > 0.0 else i + 1
     x = solve_set(g, lv, la, b, n, scale, m, bounds, work, load, s, state[k])
     if load != 0.0:
@@ -692,6 +696,33 @@ def solve_pins(pins, load, side, guess, c):
 
 
 @nb.njit(nogil=True, cache=True)
+def support_deflection_um(t_el, s, support, c, state):
+    """Radial deflection of the support bearings [um] when the chain carries t_el [N m] (side s at
+    0): from the support set's memo when this torque was solved before, else solved (a symmetric
+    set's mirrored load from state[8], state[9]) and remembered."""
+    memo = support[6]
+    side = s if t_el == 0.0 else 0.0
+    free = -1
+    for i in range(memo.shape[1]):
+        if memo[0, i] == t_el and memo[1, i] == side:
+            return memo[2, i]
+        if free < 0 and np.isnan(memo[0, i]):
+            free = i
+    sload = t_el * c.support_force_n_per_nm
+    if c.support_symmetric != 0.0 and sload != 0.0 and abs(sload) == state[8]:
+        ds = s * state[9]
+    else:
+        ds = _mirrored_solve(support, sload, s, 0.0, cm.PALMGREN_EXPONENT, 1.0, state, 6)
+        state[8] = abs(sload)
+        state[9] = abs(ds)
+    if free >= 0:
+        memo[0, free] = t_el
+        memo[1, free] = side
+        memo[2, free] = ds
+    return ds
+
+
+@nb.njit(nogil=True, cache=True)
 def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, out):
     """Output angle of each element [rad] (ELEMENTS order) when the chain carries t_el [N m];
     at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state`` (N_STATE,):
@@ -726,14 +757,7 @@ def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, ou
     out[4] = t_el * c.crank_compliance_rad_per_nm
     out[5] = 0.0
     if c.support_rollers > 0.0:
-        sload = t_el * c.support_force_n_per_nm
-        if c.support_symmetric != 0.0 and sload != 0.0 and abs(sload) == state[8]:
-            ds = s * state[9]
-        else:
-            ds = _mirrored_solve(support, sload, s, 0.0, cm.PALMGREN_EXPONENT, 1.0, state, 6)
-            state[8] = abs(sload)
-            state[9] = abs(ds)
-        out[5] = ds * c.bearing_angle_rad_per_um
+        out[5] = support_deflection_um(t_el, s, support, c, state) * c.bearing_angle_rad_per_um
     out[6] = t_el * c.carrier_compliance_rad_per_nm
     out[7] = t_el * c.main_bearing_compliance_rad_per_nm
 
@@ -805,7 +829,8 @@ def loop_figures(pins, rollers, support, backlash1_rad, c, state, out):
 
 
 @nb.njit(nogil=True, cache=True)
-def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out):
+def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out,
+                    support=None):
     """The test-bench figures of one unit (``loop_figures``) from its arrays:
 
     gap_um[d, j]: free gap of pin j to disc d at zero rotation, normal to the profile [um]
@@ -814,10 +839,12 @@ def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, cr
     disc d sits at phase 2 pi j / z_p - chi - 2 pi d / discs: it sets the flank curvature of each
     contact); involute_backlash_rad: the involute stage's backlash at the output [rad] (negative
     read as 0); crank_clearance_um: radial clearance G_r of the crank needle bearings [um]
-    (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i)."""
+    (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i); support: a
+    support set (``prepare_support``) shared by a batch of units of the design (None: its own)."""
     pins = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c, c.radial_stiffness_n_per_um < np.inf)
-    loop_figures(pins, prepare_rollers(crank_clearance_um, roller_cos, c), prepare_support(c),
-                 max(involute_backlash_rad, 0.0), c, new_state(), out)
+    loop_figures(pins, prepare_rollers(crank_clearance_um, roller_cos, c),
+                 prepare_support(c) if support is None else support, max(involute_backlash_rad, 0.0), c, new_state(),
+                 out)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -831,9 +858,10 @@ def evaluate_units(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, cra
     """``unit_hysteresis`` of n units: gap_um and lever_um_per_rad (n, discs, z_p), the rest (n,);
     out (3, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin]."""
     fig = np.empty(N_FIGURES)
+    support = prepare_support(c)  # the same for every unit: its solves are shared through its memo
     for i in range(gap_um.shape[0]):
         unit_hysteresis(gap_um[i], lever_um_per_rad[i], chi_rad[i], involute_backlash_rad[i], crank_clearance_um[i],
-                        c, roller_cos, fig)
+                        c, roller_cos, fig, support)
         out[0, i] = fig[LOST_MOTION]
         out[1, i] = fig[BACKLASH]
         out[2, i] = fig[RIGIDITY]

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -63,6 +63,10 @@ class UnitBatch:
     involute_backlash_rad: np.ndarray  # (n,) involute stage at the output [rad], >= 0
     crank_clearance_um: np.ndarray  # (n,) radial clearance of the crank needle bearings [um]
     preload_um: np.ndarray  # (n,) the cycloid stage's preload (contact model), NaN when it is free [um]
+
+    def take(self, index) -> "UnitBatch":
+        """The units at ``index`` (an index array or a slice), as a batch of their own."""
+        return UnitBatch(*(np.ascontiguousarray(getattr(self, f.name)[index]) for f in fields(self)))
 
 
 @nb.njit(nogil=True, cache=True)
