@@ -12,6 +12,7 @@ of each error group (by switching the group off).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -73,6 +74,14 @@ def perfect_unit(problem: Problem, chi_rad: float = 0.0) -> Realization:
                                clearance, chi_rad)
 
 
+@functools.lru_cache(maxsize=8)
+def position_table(g, positions: int, chi0_rad: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(theta, chi, mesh_table) of ``positions`` output positions from crank angle chi0 (built once
+    per geometry and start: the table is most of a single curve's cost). Shared: do not modify."""
+    theta, chis = output_positions(g, positions, chi0_rad)
+    return theta, chis, mesh_table(g, chis)
+
+
 @dataclass(frozen=True)
 class Revolution:
     """Flank positions of one unit [rad] at the output positions (theta [rad]); preload [um]."""
@@ -88,10 +97,7 @@ def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITI
     """Both flanks' positions of unit ``r`` over one output revolution from its crank angle r.chi_rad
     (models.kinematics). ``table``: (theta, chi, mesh_table) to reuse."""
     g = problem.cycloid
-    if table is None:
-        theta, chis = output_positions(g, positions, r.chi_rad)
-        table = (theta, chis, mesh_table(g, chis))
-    theta, chis, coef = table
+    theta, chis, coef = table if table is not None else position_table(g, positions, float(r.chi_rad))
     k = kinematics(problem)
     ccw, cw, pre = flank_positions(g, r, coef, theta, chis, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets,
                                    exact)
@@ -209,8 +215,8 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     if load_direction not in LOAD_DIRECTIONS:
         raise InputError("load_direction", load_direction, f"allowed: {', '.join(LOAD_DIRECTIONS)}")
     g = problem.cycloid
-    theta, chis = output_positions(g, positions, r.chi_rad)
-    table = (theta, chis, mesh_table(g, chis))
+    table = position_table(g, positions, float(r.chi_rad))
+    theta = table[0]
     perfect = perfect_unit(problem, r.chi_rad)
     ref = revolution(problem, perfect, positions, table=table)
     run = revolution(problem, r, positions, table=table)

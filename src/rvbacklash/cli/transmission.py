@@ -79,3 +79,25 @@ def transmission_error(
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
                 "--plot": lambda: te_svg(result)},
                lambda: print_transmission_error(result, stdout_console()), data, rows)
+
+
+SPEC_TE_OPTION = typer.Option(None, "--spec-te-arcsec",
+                              help="Spec of the transmission error's peak-to-peak over one output revolution "
+                                   "(upper limit) [arcsec]; turns --model contact into --model transmission (the "
+                                   "contact model's units through a full revolution; docs/transmission-error.md).")
+
+
+def te_model_and_specs(model: str, spec_te_arcsec: Optional[float], specs: dict) -> tuple[str, dict]:
+    """--spec-te-arcsec: checked before any work; with --model contact the run becomes the
+    transmission model's (the same units, turned through a revolution)."""
+    import math
+
+    from rvbacklash.errors import InputError
+
+    if spec_te_arcsec is None:
+        return model, specs
+    if model not in ("contact", "transmission"):
+        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed with --model contact or transmission only")
+    if not (math.isfinite(spec_te_arcsec) and spec_te_arcsec > 0):
+        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed: a finite number > 0 [arcsec]")
+    return "transmission", {**specs, "transmission_error": spec_te_arcsec}
