@@ -29,8 +29,8 @@ the contact model's play at the same crank angle.
 
 TE of a flank = the output's position with that flank in contact minus the same flank's
 position in the error-free unit of the same design (so perfect parts give TE = 0 exactly; the
-designed modifications' own order-z_c z_p ripple, below 1e-3 arcsec for rv80e, is part of the
-nominal unit and reported by ``nominal_ripple``).
+designed modifications' own order-z_c z_p ripple is part of the
+nominal unit: 0.070 arcsec peak-to-peak for rv80e, reported as ``nominal_ripple_arcsec``).
 """
 
 from __future__ import annotations

@@ -186,3 +186,25 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     sigmas = np.array([z.sigma_um for z in kinematic_zones(problem.design, problem.zones)])
     return TransmissionBlockSource(c, sigmas, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets, table,
                                    ref.ccw_rad, TE_OUTPUTS)
+
+
+def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = ()) -> list:
+    """The first n units of block 0 of a production run (the same numbers ``simulate`` draws) as
+    Realizations at the reference position (crank angle 0), for one-unit curves. The crank holes
+    are given as the disc holes that the least-squares fit maps to the same placement (carrier holes
+    zero): -(shift + turn R_c t_k), t_k the tangent at crank k."""
+    from rvbacklash.models.contact import Realization
+
+    src = transmission_source(problem, "default", seed, stream)
+    dr, dt, rho, cl, teeth, eq, md, ux, uy, da, lin, centre, planet, shift, turn = src._draw(
+        te_streams(seed, 0, tuple(stream)), n)
+    gam = 2 * np.pi * np.arange(src.planets) / src.planets
+    tangent = np.stack([-np.sin(gam), np.cos(gam)], axis=1)  # (P, 2)
+    out = []
+    for s in range(n):
+        holes = -(shift[s][:, None, :] + turn[s][:, None, None] * src.crank_radius_mm * 1e3 * tangent[None, :, :])
+        out.append(Realization(0.0, dr[s].copy(), dt[s].copy(), rho[s].copy(), cl[s].copy(), teeth[s].copy(),
+                               np.stack([ux[s], uy[s]], axis=1), da[s].copy(), eq[s].copy(), md[s].copy(),
+                               centre_gear_eccentricity_um=centre[s].copy(), planet_eccentricity_um=planet[s].copy(),
+                               disc_crank_hole_um=holes, carrier_crank_hole_um=np.zeros((src.planets, 2))))
+    return out
