@@ -12,21 +12,19 @@ of each error group (by switching the group off).
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from rvbacklash.errors import InputError
-from rvbacklash.factors.catalog import FACTOR_KEYS
-from rvbacklash.models.contact import Realization, mesh_table
-from rvbacklash.models.kinematics import ARCSEC_PER_RAD, flank_positions, output_positions
+from rvbacklash.models.contact import Realization
+from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
+                                          perfect_unit, position_table, revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
-DEFAULT_POSITIONS = 1024  # output positions per revolution: orders up to 512 (4 z_p = 160 for rv80e)
 MAX_POSITIONS = 1 << 16
 LEADING_ORDERS = 8  # lines listed in the summary and the JSON
 LOAD_DIRECTIONS = ("ccw", "cw")
@@ -48,60 +46,6 @@ def check_positions(problem: Problem, positions) -> int:
         raise InputError("positions", positions, f"allowed: a whole number {lo} <= positions <= {MAX_POSITIONS} "
                                                  f"(order 4 z_p resolved; z_p = {problem.cycloid.zp})")
     return int(positions)
-
-
-@dataclass(frozen=True)
-class Kinematics:
-    """What the kinematic model needs of a design besides the contact geometry."""
-
-    ratio: float
-    base_radius_mm: float  # r_b2 of the planet gears
-    crank_radius_mm: float  # R_c, the circle of crank axes
-    planets: int
-
-
-def kinematics(problem: Problem) -> Kinematics:
-    g = problem.geometry
-    return Kinematics(g.ratio, g.planet_pitch_radius_mm * math.cos(math.radians(g.pressure_angle_deg)),
-                      g.crank_circle_radius_mm, problem.design.first_stage.planets)
-
-
-def perfect_unit(problem: Problem, chi_rad: float = 0.0) -> Realization:
-    """The error-free unit: nominal modifications, the pin/hole clearance at its zone mean."""
-    s2 = problem.design.second_stage
-    clearance = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
-    return Realization.nominal(problem.cycloid, s2.equidistance_modification_um, s2.moving_distance_modification_um,
-                               clearance, chi_rad)
-
-
-@functools.lru_cache(maxsize=8)
-def position_table(g, positions: int, chi0_rad: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(theta, chi, mesh_table) of ``positions`` output positions from crank angle chi0 (built once
-    per geometry and start: the table is most of a single curve's cost). Shared: do not modify."""
-    theta, chis = output_positions(g, positions, chi0_rad)
-    return theta, chis, mesh_table(g, chis)
-
-
-@dataclass(frozen=True)
-class Revolution:
-    """Flank positions of one unit [rad] at the output positions (theta [rad]); preload [um]."""
-
-    theta_rad: np.ndarray
-    ccw_rad: np.ndarray
-    cw_rad: np.ndarray
-    preload_um: np.ndarray
-
-
-def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITIONS, exact: bool = True,
-               table: tuple | None = None) -> Revolution:
-    """Both flanks' positions of unit ``r`` over one output revolution from its crank angle r.chi_rad
-    (models.kinematics). ``table``: (theta, chi, mesh_table) to reuse."""
-    g = problem.cycloid
-    theta, chis, coef = table if table is not None else position_table(g, positions, float(r.chi_rad))
-    k = kinematics(problem)
-    ccw, cw, pre = flank_positions(g, r, coef, theta, chis, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets,
-                                   exact)
-    return Revolution(theta, ccw, cw, pre)
 
 
 def amplitude_spectrum(curve: np.ndarray) -> np.ndarray:

@@ -35,15 +35,20 @@ nominal unit: 0.070 arcsec peak-to-peak for rv80e, reported as ``nominal_ripple_
 
 from __future__ import annotations
 
+import functools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from rvbacklash._numba import nb
+from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import _linear_maxmin, stage_play, unit_gaps
+from rvbacklash.models.contact import Realization, _linear_maxmin, mesh_table, stage_play, unit_arrays, unit_gaps
+from rvbacklash.problem import Problem
 
 ARCSEC_PER_RAD = 648000.0 / math.pi
+DEFAULT_POSITIONS = 1024  # output positions per revolution of one unit's curve: orders up to 512
 
 
 def output_positions(g: ContactGeometry, positions: int, chi0_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -176,8 +181,6 @@ def flank_positions(g: ContactGeometry, r, coef: np.ndarray, thetas: np.ndarray,
                     ) -> tuple[np.ndarray, ...]:
     """(te_ccw, te_cw [rad], preload [um]) of one unit (a models.contact.Realization) at the output
     positions (thetas, chis) of ``output_positions``; ``coef`` = mesh_table(g, chis)."""
-    from rvbacklash.models.contact import unit_arrays
-
     centre, planet, hd, hc = kinematic_arrays(r, g.discs, planets)
     shift, turn = np.empty((g.discs, 2)), np.empty(g.discs)
     crank_fit(hd, hc, crank_radius_mm, planets, g.discs, shift, turn)
@@ -188,3 +191,57 @@ def flank_positions(g: ContactGeometry, r, coef: np.ndarray, thetas: np.ndarray,
              float(ratio), float(base_radius_mm), float(crank_radius_mm), dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
              centre, planet, shift, turn, *curve_scratch(g.zp, g.zc, g.discs, planets), te_ccw, te_cw, preload, exact)
     return te_ccw, te_cw, preload
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """What the kinematic model needs of a design besides the contact geometry."""
+
+    ratio: float
+    base_radius_mm: float  # r_b2 of the planet gears
+    crank_radius_mm: float  # R_c, the circle of crank axes
+    planets: int
+
+
+def kinematics(problem: Problem) -> Kinematics:
+    g = problem.geometry
+    return Kinematics(g.ratio, g.planet_pitch_radius_mm * math.cos(math.radians(g.pressure_angle_deg)),
+                      g.crank_circle_radius_mm, problem.design.first_stage.planets)
+
+
+def perfect_unit(problem: Problem, chi_rad: float = 0.0) -> Realization:
+    """The error-free unit: nominal modifications, the pin/hole clearance at its zone mean."""
+    s2 = problem.design.second_stage
+    clearance = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
+    return Realization.nominal(problem.cycloid, s2.equidistance_modification_um, s2.moving_distance_modification_um,
+                               clearance, chi_rad)
+
+
+@functools.lru_cache(maxsize=8)
+def position_table(g, positions: int, chi0_rad: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(theta, chi, mesh_table) of ``positions`` output positions from crank angle chi0 (built once
+    per geometry and start: the table is most of a single curve's cost). Shared: do not modify."""
+    theta, chis = output_positions(g, positions, chi0_rad)
+    return theta, chis, mesh_table(g, chis)
+
+
+@dataclass(frozen=True)
+class Revolution:
+    """Flank positions of one unit [rad] at the output positions (theta [rad]); preload [um]."""
+
+    theta_rad: np.ndarray
+    ccw_rad: np.ndarray
+    cw_rad: np.ndarray
+    preload_um: np.ndarray
+
+
+def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITIONS, exact: bool = True,
+               table: tuple | None = None) -> Revolution:
+    """Both flanks' positions of unit ``r`` over one output revolution from its crank angle r.chi_rad
+    (models.kinematics). ``table``: (theta, chi, mesh_table) to reuse."""
+    g = problem.cycloid
+    theta, chis, coef = table if table is not None else position_table(g, positions, float(r.chi_rad))
+    k = kinematics(problem)
+    ccw, cw, pre = flank_positions(g, r, coef, theta, chis, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets,
+                                   exact)
+    return Revolution(theta, ccw, cw, pre)

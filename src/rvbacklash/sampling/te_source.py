@@ -26,7 +26,9 @@ from numpy.random import PCG64, Generator, SeedSequence
 from rvbacklash._numba import nb
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
 from rvbacklash.models.contact import mesh_table
-from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scratch, output_positions, te_curve)
+from rvbacklash.errors import InputError
+from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scratch, kinematics, output_positions,
+                                          perfect_unit, revolution, te_curve)
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
 from rvbacklash.sampling.contact_source import (IDX, N_STREAMS, STAGE2_ORDER, ContactBlockSource, _normal,
@@ -169,8 +171,6 @@ class TransmissionBlockSource:
 def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
                         save_units: int = 0, positions: int | None = None) -> TransmissionBlockSource:
     """The transmission-error model's block source (positions per revolution: POSITIONS_PER_PIN z_p)."""
-    from rvbacklash.analysis.transmission import kinematics, perfect_unit, revolution
-    from rvbacklash.errors import InputError
 
     if method != "default":
         raise InputError("method", method, "allowed with the transmission-error model: default")
