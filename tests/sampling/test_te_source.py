@@ -74,3 +74,16 @@ def test_bad_input(problem):
         transmission_source(problem, "sobol", 1)
     with pytest.raises(InputError, match="save_units"):
         transmission_source(problem, "default", 1, save_units=3)
+
+
+def test_sobol_streams_of_te_name_the_kinematic_factors(problem):
+    from numpy.random import PCG64, Generator
+
+    from rvbacklash.analysis.sensitivity_global import stream_model
+    from rvbacklash.factors.catalog import KINEMATIC_KEYS
+
+    sm = stream_model(problem, "transmission")
+    assert sm.inputs[-len(KINEMATIC_KEYS):] == KINEMATIC_KEYS and len(sm.random) == len(sm.inputs)
+    gens = lambda: [Generator(PCG64(k)) for k in range(len(sm.inputs))]  # noqa: E731
+    a, b = sm.block(gens(), 5), sm.block(gens(), 5)
+    assert a.shape == (3, 5) and np.array_equal(a, b)

@@ -231,7 +231,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
-    with per-pin and per-tooth errors, docs/contact.md) or a callable (n, 21) [um] -> (n,)
+    with per-pin and per-tooth errors, docs/contact.md; "elastic"; "transmission": the contact
+    model's units turned through one output revolution, TE peak-to-peak, docs/transmission-error.md)
+    or a callable (n, 21) [um] -> (n,)
     [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol (scrambled QMC),
     exact (the linear model's exact distribution). ``spec_arcmin`` is the upper limit of the
     primary output; ``specs`` gives limits of other outputs by name. Every method is seeded;

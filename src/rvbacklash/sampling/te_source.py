@@ -208,3 +208,31 @@ def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = 
                                centre_gear_eccentricity_um=centre[s].copy(), planet_eccentricity_um=planet[s].copy(),
                                disc_crank_hole_um=holes, carrier_crank_hole_um=np.zeros((src.planets, 2))))
     return out
+
+
+@dataclass(frozen=True, eq=False)
+class TransmissionStreams:
+    """The transmission-error model as global sensitivity needs it (analysis.sensitivity_global.
+    StreamModel): every catalog factor, the crank angle and every kinematic factor draws from the
+    generator it is given (Sobol indices of TE by part group)."""
+
+    source: TransmissionBlockSource
+    random: tuple[bool, ...]
+    inputs: tuple[str, ...]
+    outputs: tuple[Output, ...] = TE_OUTPUTS
+
+    def block(self, generators, n: int) -> np.ndarray:
+        streams = tuple(generators)
+        out = np.empty((len(self.outputs), n))
+        for start in range(0, n, CHUNK):
+            m = min(CHUNK, n - start)
+            self.source._evaluate(self.source._draw(streams, m), out[:, start:start + m])
+        return out
+
+
+def transmission_streams(problem: Problem) -> TransmissionStreams:
+    from rvbacklash.factors.catalog import FACTOR_KEYS, KINEMATIC_KEYS
+
+    source = transmission_source(problem, "default", 0)
+    random = tuple(bool(x) for x in problem.random_mask) + (True,) + tuple(bool(s > 0) for s in source.sigmas_um)
+    return TransmissionStreams(source, random, tuple(FACTOR_KEYS) + ("crank_angle",) + KINEMATIC_KEYS)
