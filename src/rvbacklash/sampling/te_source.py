@@ -17,7 +17,6 @@ Units are drawn serially (one stream per factor) in chunks and evaluated by a sm
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +30,7 @@ from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scrat
                                           perfect_unit, revolution, te_curve)
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
+from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.contact_source import (IDX, N_STREAMS, STAGE2_ORDER, ContactBlockSource, _normal,
                                                 block_streams, contact_source, draw_unit, unit_scratch)
 from rvbacklash.sampling.engine import Output
@@ -153,15 +153,8 @@ class TransmissionBlockSource:
         c = self.contact
         streams = te_streams(c.seed, b, c.stream)
         out = np.empty((len(self.outputs), n))
-        with ThreadPoolExecutor(max_workers=EVAL_THREADS) as pool:
-            jobs = []
-            for start in range(0, n, CHUNK):
-                m = min(CHUNK, n - start)
-                if len(jobs) > EVAL_THREADS:  # bounded memory: a few chunks in flight at most
-                    jobs.pop(0).result()
-                jobs.append(pool.submit(self._evaluate, self._draw(streams, m), out[:, start:start + m]))
-            for job in jobs:
-                job.result()
+        draw_then_evaluate(n, CHUNK, EVAL_THREADS, lambda start, m: self._draw(streams, m),
+                           lambda start, units: self._evaluate(units, out[:, start:start + units[0].shape[0]]))
         return out
 
     def saved_units(self) -> list:
