@@ -30,6 +30,7 @@ _EXPORTS = {
     "sensitivity": "rvbacklash.api",
     "allocate": "rvbacklash.api",
     "hysteresis": "rvbacklash.api",
+    "transmission_error": "rvbacklash.api",
     "elastic_section": "rvbacklash.api",
     "sweep": "rvbacklash.api",
     "plan_sweep": "rvbacklash.analysis.sweep",
@@ -55,6 +56,7 @@ _EXPORTS = {
     "SensitivityResult": "rvbacklash.analysis.sensitivity_global",
     "AllocationResult": "rvbacklash.analysis.allocation",
     "HysteresisResult": "rvbacklash.analysis.hysteresis",
+    "TransmissionErrorResult": "rvbacklash.analysis.transmission",
     # the linear model as a function (n, 21) -> (n,)
     "LinearModel": "rvbacklash.models.linear",
     "linear_model": "rvbacklash.models.linear",

@@ -135,6 +135,34 @@ def contact(design: DesignLike, *, crank_angle_deg: float | None = None, measure
     return results[0] if len(results) == 1 else results
 
 
+def transmission_error(design: DesignLike, *, measured=None, unit: int | None = None, positions: int | None = None,
+                       load_direction: str = "ccw", shares: bool = True):
+    """Transmission error and rigid lost motion of one unit over a full output revolution
+    (docs/transmission-error.md): the nominal design, or unit ``unit`` (0-based, default 0) of
+    ``measured`` (a UNIT.toml path, a MeasuredUnit or a list of them), from its crank angle.
+    ``positions`` per revolution (default 1024), ``load_direction`` the flank of the headline
+    figures (ccw | cw), ``shares`` the TE with each error group switched off."""
+    from rvbacklash.analysis.contact import unit_realization
+    from rvbacklash.analysis.transmission import DEFAULT_POSITIONS, perfect_unit
+    from rvbacklash.analysis.transmission import transmission_error as _te
+    from rvbacklash.design.measured import MeasuredUnit, load_units
+
+    problem = prepare(design)
+    n = DEFAULT_POSITIONS if positions is None else positions
+    if measured is None:
+        if unit is not None:
+            raise InputError("unit", unit, "allowed only with measured units")
+        return _te(problem, perfect_unit(problem), "nominal", n, load_direction, shares)
+    source = str(measured) if isinstance(measured, (str, Path)) else "given units"
+    units = load_units(measured, problem.design) if isinstance(measured, (str, Path)) else \
+        [measured] if isinstance(measured, MeasuredUnit) else list(measured)
+    k = 0 if unit is None else unit
+    if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < len(units):
+        raise InputError("unit", unit, f"allowed: 0 to {len(units) - 1} ({len(units)} units in {source})")
+    label = f"unit {k} of {source}" if len(units) > 1 else source
+    return _te(problem, unit_realization(problem, units[k]), label, n, load_direction, shares)
+
+
 def measured_units(design: DesignLike, result: SimulationResult):
     """The units a run saved (``simulate(..., save_units=N)``) as measured units (UNIT.toml records)."""
     from rvbacklash.analysis.contact import measured_units as _units

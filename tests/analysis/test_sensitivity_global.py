@@ -179,7 +179,7 @@ def test_refusals_name_the_parameter(rv80e_problem):
     with pytest.raises(InputError) as e:
         global_sensitivity(rv80e_problem, output="lost_motion")
     assert e.value.field == "output" and "backlash" in e.value.allowed
-    assert set(STREAM_MODELS) == {"linear", "contact", "elastic"}  # every model of the engine has its streams
+    assert set(STREAM_MODELS) == {"linear", "contact", "elastic", "transmission"}  # every model has its streams
     with pytest.raises(InputError) as e:
         global_sensitivity(rv80e_problem, model="nonsense")
     assert e.value.field == "model"

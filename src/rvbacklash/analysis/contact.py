@@ -159,7 +159,15 @@ def unit_realization(problem: Problem, unit: MeasuredUnit, crank_angle_deg: floa
         np.stack([arr(d.runout_um, 2) for d in discs]) if discs else np.zeros((g.discs, 2)),
         per("eccentricity_error_um"), s2.equidistance_modification_um + per("equidistance_error_um"),
         s2.moving_distance_modification_um + per("moving_distance_error_um"), crank_clearance_um=crank,
-        involute_backlash_rad=involute)
+        involute_backlash_rad=involute, **kinematic_fields(unit))
+
+
+def kinematic_fields(unit: MeasuredUnit) -> dict:
+    """The transmission-error model's errors of a measured unit as Realization fields (None: zero)."""
+    k = unit.kinematics
+    return {"centre_gear_eccentricity_um": k.centre_gear_eccentricity_um, "planet_eccentricity_um":
+            k.planet_eccentricity_um, "disc_crank_hole_um": k.disc_crank_holes_um,
+            "carrier_crank_hole_um": k.carrier_crank_holes_um}
 
 
 def measured_contact(problem: Problem, unit: MeasuredUnit, label: str = "measured unit",

@@ -122,9 +122,15 @@ def _elastic(problem: Problem) -> StreamModel:
     return elastic_streams(problem)
 
 
+def _transmission(problem: Problem) -> StreamModel:
+    from rvbacklash.sampling.te_source import transmission_streams
+
+    return transmission_streams(problem)
+
+
 # name -> factory(problem) of the model's StreamModel (one entry per model)
 STREAM_MODELS: dict[str, Callable[[Problem], StreamModel]] = {"linear": LinearStreams, "contact": _contact,
-                                                              "elastic": _elastic}
+                                                              "elastic": _elastic, "transmission": _transmission}
 
 
 # --- results -------------------------------------------------------------------------------------

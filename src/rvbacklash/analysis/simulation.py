@@ -58,8 +58,16 @@ def _elastic(problem: Problem, method: str, seed: int, stream: tuple[int, ...] =
     return elastic_source(problem, method, seed, stream, save_units=save_units)
 
 
+def _transmission(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
+                  save_units: int = 0) -> BlockSource:
+    from rvbacklash.sampling.te_source import transmission_source
+
+    return transmission_source(problem, method, seed, stream, save_units=save_units)
+
+
 # name -> factory(problem, method, seed, stream, save_units=0) of the model's block source
-MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact, "elastic": _elastic}
+MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact, "elastic": _elastic,
+                                                 "transmission": _transmission}
 
 
 # --- results ---------------------------------------------------------------------------------
@@ -223,7 +231,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
-    with per-pin and per-tooth errors, docs/contact.md) or a callable (n, 21) [um] -> (n,)
+    with per-pin and per-tooth errors, docs/contact.md; "elastic"; "transmission": the contact
+    model's units turned through one output revolution, TE peak-to-peak, docs/transmission-error.md)
+    or a callable (n, 21) [um] -> (n,)
     [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol (scrambled QMC),
     exact (the linear model's exact distribution). ``spec_arcmin`` is the upper limit of the
     primary output; ``specs`` gives limits of other outputs by name. Every method is seeded;
@@ -238,7 +248,7 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     if error_model is not None:
         if error_model not in ("long_wave", "independent"):
             raise InputError("error_model", error_model, "allowed: long_wave, independent")
-        if model not in ("contact", "elastic"):
+        if model not in ("contact", "elastic", "transmission"):
             raise InputError("error_model", error_model, "allowed with the contact or elastic model only (the "
                                                          "per-element errors it reads)")
         problem = replace(problem, contact_errors=replace(problem.contact_errors, error_model=error_model))

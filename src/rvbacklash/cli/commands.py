@@ -14,6 +14,7 @@ from rvbacklash.cli.common import (CONTACT_NOTE, DESIGN_HELP, ERROR_MODEL_OPTION
                                    SPEC_LOST_MOTION_OPTION, SPEC_OPTION, SPEC_PRELOAD_OPTION, SPEC_RIGIDITY_OPTION,
                                    WORKERS_OPTION, Format, Outputs, command, csv_option, json_option, parse_samples,
                                    progress_bar, stdout_console, workers_or_none)
+from rvbacklash.cli.transmission import SPEC_TE_OPTION, te_model_and_specs
 from rvbacklash.errors import InputError
 
 
@@ -58,6 +59,7 @@ def simulate(
     spec_lost_motion_arcmin: Optional[float] = SPEC_LOST_MOTION_OPTION,
     spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
     spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,
+    spec_te_arcsec: Optional[float] = SPEC_TE_OPTION,
     json_out: Optional[Path] = json_option(),
     csv_out: Optional[Path] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
@@ -73,6 +75,7 @@ def simulate(
     threads = workers_or_none(workers)
     specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
                          spec_preload_um)
+    model, specs = te_model_and_specs(model, spec_te_arcsec, specs)
     n_save, save_path = save_units if save_units is not None else (0, None)
     if save_units is not None and n_save < 1:
         raise InputError("--save-units", n_save, "allowed: N >= 1 units to write to FILE")

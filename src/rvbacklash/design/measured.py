@@ -16,6 +16,12 @@ Any array may be left out (zeros). A file holds one unit (``[pins]``, ``[[discs]
     runout_um = [0.0, 0.0]
     eccentricity_error_um = 0.0
 
+    [kinematics]                    # optional: the transmission-error model's errors [um]
+    centre_gear_eccentricity_um = [x, y]       # in the centre gear's frame
+    planet_eccentricity_um = [[x, y], ...]     # one per planet, each in its own frame
+    carrier_crank_holes_um = [[x, y], ...]     # crank k's seat in the carrier (k at 2 pi k / P)
+    disc_crank_holes_um = [[[x, y], ...], ...] # per disc, per crank hole
+
 Optional per unit: ``crank_angle_deg``, ``other_stages_arcmin`` (the involute and crank stages'
 lost motion, Eq. (1)), ``crank_bearing_clearance_um`` (the elastic model's needle-bearing dead
 band; with ``other_stages_arcmin`` it also fixes the involute stage's share).
@@ -67,6 +73,18 @@ class MeasuredDisc(_Strict):
     eccentricity_error_um: float = Field(0.0, ge=-LIMIT_UM, le=LIMIT_UM, description="crank eccentricity error [um]")
 
 
+Vector = list[float]
+
+
+class MeasuredKinematics(_Strict):
+    """Position errors of the parts that only the transmission-error model reads [um] (x, y)."""
+
+    centre_gear_eccentricity_um: Vector | None = Field(None, min_length=2, max_length=2)
+    planet_eccentricity_um: list[Vector] | None = Field(None, description="one [x, y] per planet")
+    carrier_crank_holes_um: list[Vector] | None = Field(None, description="one [x, y] per crankshaft")
+    disc_crank_holes_um: list[list[Vector]] | None = Field(None, description="per disc, one [x, y] per crankshaft")
+
+
 class MeasuredUnit(_Strict):
     crank_angle_deg: float | None = Field(None, ge=-360, le=360, description="crank angle of the measurement [deg]")
     cycloid_stage_arcmin: float | None = Field(None, description="the play the Monte-Carlo found (informative)")
@@ -78,6 +96,7 @@ class MeasuredUnit(_Strict):
                                                                  "[um] (elastic model); default: its zone mean")
     pins: MeasuredPins = MeasuredPins()
     discs: list[MeasuredDisc] = Field(default_factory=list)
+    kinematics: MeasuredKinematics = MeasuredKinematics()
 
 
 class UnitFile(_Strict):
@@ -110,6 +129,41 @@ def _check_lengths(u: MeasuredUnit, design: Design, where: str) -> None:
                 math.isfinite(x) and abs(x) <= LIMIT_UM)), f"allowed: finite values within +-{LIMIT_UM:g} um")
 
 
+def _check_kinematics(k: MeasuredKinematics, design: Design, where: str) -> None:
+    planets, discs = design.first_stage.planets, design.second_stage.discs
+    shapes = {"centre_gear_eccentricity_um": (2,), "planet_eccentricity_um": (planets, 2),
+              "carrier_crank_holes_um": (planets, 2), "disc_crank_holes_um": (discs, planets, 2)}
+    for name, shape in shapes.items():
+        v = getattr(k, name)
+        if v is None:
+            continue
+        field = f"{where}kinematics.{name}"
+        try:
+            ok = list(_shape(v)) == list(shape)
+        except ValueError:
+            ok = False
+        if not ok:
+            raise InputError(field, "the given nesting", f"allowed: an array of shape {list(shape)} (planets = "
+                                                         f"{planets}, discs = {discs}) of [x, y] pairs")
+        flat = _flatten(v)
+        bad = next((x for x in flat if not (math.isfinite(x) and abs(x) <= LIMIT_UM)), None)
+        if bad is not None:
+            raise InputError(field, bad, f"allowed: finite values within +-{LIMIT_UM:g} um")
+
+
+def _shape(v) -> tuple[int, ...]:
+    if not isinstance(v, list):
+        return ()
+    inner = {_shape(x) for x in v}
+    if len(inner) > 1:
+        raise ValueError("ragged")
+    return (len(v),) + (inner.pop() if inner else ())
+
+
+def _flatten(v) -> list[float]:
+    return [y for x in v for y in _flatten(x)] if isinstance(v, list) else [float(v)]
+
+
 def units_from_toml(text: str, design: Design, origin: str = "<string>") -> list[MeasuredUnit]:
     """Every unit of a measured-unit file, validated against the design (lengths z_p, z_c, discs)."""
     try:
@@ -122,6 +176,7 @@ def units_from_toml(text: str, design: Design, origin: str = "<string>") -> list
         raise validation_to_input_error(e, UnitFile if "unit" in data else MeasuredUnit) from None
     for k, u in enumerate(units):
         _check_lengths(u, design, f"unit[{k}]." if "unit" in data else "")
+        _check_kinematics(u.kinematics, design, f"unit[{k}]." if "unit" in data else "")
     return units
 
 
@@ -137,6 +192,11 @@ def load_units(path: str | Path, design: Design) -> list[MeasuredUnit]:
         return units_from_toml(text, design, str(path))
     except InputError as e:  # name the file: the fields of a unit file are not the command's flags
         raise e.renamed(f"{path}: {e.field}") if not e.field.startswith(str(path)) else e from None
+
+
+def _nested(v) -> str:
+    return "[" + ", ".join(_nested(x) for x in v) + "]" if isinstance(v, list) and v and isinstance(v[0], list) \
+        else _array(v)
 
 
 def _array(values) -> str:
@@ -166,5 +226,9 @@ def units_to_toml(units: list[MeasuredUnit], header: str = "") -> str:
             if d.runout_um is not None:
                 lines.append(f"runout_um = {_array(d.runout_um)}")
             lines.append(f"eccentricity_error_um = {d.eccentricity_error_um:.10g}")
+        kin = {name: getattr(u.kinematics, name) for name in MeasuredKinematics.model_fields}
+        if any(v is not None for v in kin.values()):
+            lines.append("[unit.kinematics]")
+            lines += [f"{name} = {_nested(v)}" for name, v in kin.items() if v is not None]
         lines.append("")
     return "\n".join(lines)

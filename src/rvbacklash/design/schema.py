@@ -264,6 +264,21 @@ class ContactErrors(_Strict):
                                          "the cycloid grade (ISO 1328-1 at the pin circle), else 0.3 F_p")
 
 
+class TransmissionErrorInputs(_Strict):
+    """Zones of the errors only the transmission-error model reads (factors.catalog.KINEMATIC_FACTORS);
+    a field left out takes the factor's documented default."""
+
+    centre_gear_eccentricity_um: float | None = Field(
+        None, ge=0, le=1000, description="largest eccentricity of the centre gear [um]; default: F_r / 2 of gear_runout")
+    planet_eccentricity_um: float | None = Field(
+        None, ge=0, le=1000, description="largest eccentricity of a planet gear [um]; default: F_r / 2 of gear_runout")
+    disc_crank_hole_position_um: float | None = Field(
+        None, ge=0, le=1000, description="position tolerance (zone diameter) of a disc's crank holes [um]; default 10")
+    carrier_crank_hole_position_um: float | None = Field(
+        None, ge=0, le=1000, description="position tolerance (zone diameter) of the carrier's crank seats [um]; "
+                                         "default 10")
+
+
 class Design(_Strict):
     """A complete RV reducer design: geometry of the three stages and 21 tolerance zones."""
 
@@ -278,6 +293,7 @@ class Design(_Strict):
     correlation: Correlation | None = None
     costs: Costs | None = None  # cost model of `allocate` (design/costs.py); None: the defaults
     contact: ContactErrors = ContactErrors()
+    transmission_error: TransmissionErrorInputs = TransmissionErrorInputs()  # docs/transmission-error.md
     elastic: ElasticInputs | None = None  # test-bench hysteresis model (design/elastic.py, docs/elastic.md)
     structure: StructureInputs | None = None  # the whole torque path (design/structure.py); None: rigid
 

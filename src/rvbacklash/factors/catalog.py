@@ -168,3 +168,41 @@ def factor_by_key(key: str) -> Factor:
         return _BY_KEY[key]
     except KeyError:
         raise KeyError(f"unknown factor {key!r}; allowed: {', '.join(FACTOR_KEYS)}") from None
+
+
+@dataclass(frozen=True)
+class KinematicFactor:
+    """An error that only the kinematic (transmission-error) model reads: a 2-D position error of
+    an element, drawn as an isotropic normal vector whose length stays within the zone's radius
+    (``problem.kinematic_errors``). Not part of Table 2's 21 factors: the linear model and its
+    paper reproduction do not see it. ``default`` says where its zone comes from when the design
+    gives none."""
+
+    key: str
+    name: str
+    symbol: str
+    group: str  # error group of the transmission-error shares (analysis.transmission.GROUPS)
+    raw_quantity: str
+    default: str
+
+
+KINEMATIC_FACTORS: tuple[KinematicFactor, ...] = (
+    KinematicFactor("centre_gear_eccentricity", "Eccentricity of the centre gear", "e_1", "involute stage",
+                    "offset of the centre gear's pitch circle from its axis [um]; zone = its largest length",
+                    "F_r / 2 of gear_runout (factor 3): a run-out F_r is twice the eccentricity (ISO 1328-2)"),
+    KinematicFactor("planet_eccentricity", "Eccentricity of each planet gear on its crankshaft", "e_2",
+                    "involute stage",
+                    "offset of a planet's pitch circle from its crankshaft's axis [um]; zone = its largest length",
+                    "F_r / 2 of gear_runout (factor 3), as the centre gear"),
+    KinematicFactor("disc_crank_hole_position", "Position of the crank holes in the cycloid discs", "t_h",
+                    "crank holes",
+                    "position tolerance (diameter of the zone, ISO 1101) of each crank hole of a disc [um]",
+                    "10 um (ASSUMPTION: jig-bored holes of a precision disc, IT5-class at this size; "
+                    "docs/transmission-error.md)"),
+    KinematicFactor("carrier_crank_hole_position", "Position of the crank holes in the carrier", "t_c",
+                    "crank holes",
+                    "position tolerance (diameter of the zone, ISO 1101) of each crankshaft bearing seat of the "
+                    "carrier [um]",
+                    "10 um (ASSUMPTION, as the disc holes)"),
+)
+KINEMATIC_KEYS: tuple[str, ...] = tuple(f.key for f in KINEMATIC_FACTORS)

@@ -51,6 +51,11 @@ class Realization:
     # the rest of the unit, for the elastic model (None: the stage's nominal value)
     crank_clearance_um: float | None = None  # radial clearance of the crank needle bearings
     involute_backlash_rad: float | None = None  # the involute stage's backlash at the output, >= 0
+    # the kinematic errors of the transmission-error model (models.kinematics; None: zero)
+    centre_gear_eccentricity_um: np.ndarray | None = None  # (2,) in the centre gear's frame
+    planet_eccentricity_um: np.ndarray | None = None  # (planets, 2) each in its planet's frame
+    disc_crank_hole_um: np.ndarray | None = None  # (discs, planets, 2) hole position errors, disc frame
+    carrier_crank_hole_um: np.ndarray | None = None  # (planets, 2) hole position errors, carrier frame
 
     @classmethod
     def nominal(cls, g: ContactGeometry, equidistance_um: float = 0.0, moving_distance_um: float = 0.0,

@@ -1,0 +1,59 @@
+"""Transmission-error benchmark: prints figures, asserts nothing.
+
+    .venv/bin/python bench/bench_te.py [--samples 1e4]
+
+1. the production run end to end (``simulate --model transmission``: draw, turn every unit through
+   one output revolution at 8 z_p positions, reduce), units/s on all cores, rv80e;
+2. the evaluation kernel alone on one thread, per unit and per output position;
+3. one unit's curve on the exact geometry (``transmission-error``: 1024 positions, both flanks and
+   the error-free reference), ms.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--samples", type=float, default=1e4)
+    a = ap.parse_args()
+    import numpy as np
+
+    import rvbacklash as rb
+    from rvbacklash.analysis.simulation import default_workers
+    from rvbacklash.analysis.transmission import perfect_unit, revolution, transmission_error
+    from rvbacklash.sampling.te_source import te_streams, transmission_source
+
+    p = rb.prepare("rv80e")
+    n = int(a.samples)
+    rb.simulate(p, samples=16, seed=0, model="transmission")  # compile / load the kernels
+    t = time.perf_counter()
+    r = rb.simulate(p, samples=n, seed=1, model="transmission", specs={"transmission_error": 60.0})
+    rate = n / (time.perf_counter() - t)
+    te = r.outputs["transmission_error"]
+    print(f"TE production run end to end (rv80e, {default_workers()} threads): {rate:8.0f} units/s "
+          f"(TE p-p mean {te.mean:.1f} arcsec, yield at 60 arcsec {te.yield_.fraction:.1%})")
+    src = transmission_source(p, "default", 2)
+    m = max(16, min(n, 512))
+    arrays = src._draw(te_streams(2, 0), m)
+    out = np.empty((3, m))
+    t = time.perf_counter()
+    src._evaluate(arrays, out)
+    dt = (time.perf_counter() - t) / m
+    print(f"evaluation kernel, one thread: {dt * 1e3:8.3f} ms/unit, {dt / src.table[0].size * 1e6:6.2f} us/position "
+          f"({src.table[0].size} positions)")
+    unit = perfect_unit(p)
+    revolution(p, unit, 1024)
+    t = time.perf_counter()
+    revolution(p, unit, 1024)
+    curve = time.perf_counter() - t
+    t = time.perf_counter()
+    transmission_error(p, unit, "nominal", 1024, shares=False)
+    print(f"one unit's curve, exact geometry, 1024 positions: {curve * 1e3:8.1f} ms (kernel); "
+          f"{(time.perf_counter() - t) * 1e3:8.1f} ms with the error-free reference and the figures")
+
+
+if __name__ == "__main__":
+    main()

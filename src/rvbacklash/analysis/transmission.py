@@ -1,0 +1,190 @@
+"""Angular transmission error and lost motion of one unit over a full output revolution
+(``rvbacklash transmission-error``; docs/transmission-error.md).
+
+A unit (the error-free design, a measured unit, or a unit a run drew) goes through
+``models.kinematics``: at every output position the output's position with each flank in
+contact. The figures: TE(theta) of each load direction [arcsec] (the position minus the
+error-free unit's at the same theta), its peak-to-peak (the catalogue figure, Yang et al. 2021
+Eq. (38)) and amplitude spectrum by order of the output revolution, the rigid lost motion at
+every position [arcmin] (max, min, at the bench's reference position theta = 0), and the share
+of each error group (by switching the group off).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rvbacklash.errors import InputError
+from rvbacklash.models.contact import Realization
+from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
+                                          perfect_unit, position_table, revolution)
+from rvbacklash.problem import Problem
+from rvbacklash.results import EXPORT, Result
+from rvbacklash.units import ARCMIN_PER_RAD
+
+MAX_POSITIONS = 1 << 16
+LEADING_ORDERS = 8  # lines listed in the summary and the JSON
+LOAD_DIRECTIONS = ("ccw", "cw")
+ASSUMPTIONS = ("rigid bodies, no load; exact cycloid-pin geometry with every tooth and pin indexed as they meet; "
+               "the discs placed on the cranks by a least-squares fit (needle-bearing clearances absorb the "
+               "residual, not checked); involute stage through the crank angles it gives; output angles in Eq. (1)'s "
+               "convention (Yang's kinematic factor 1/(1 + (z1 + z2)/(z2 z_c)) not applied); TE is the position "
+               "minus the error-free unit's at the same output angle")
+
+
+def min_positions(problem: Problem) -> int:
+    """Fewest positions per revolution: order 4 z_p resolved (more than 8 z_p samples)."""
+    return 8 * problem.cycloid.zp + 1
+
+
+def check_positions(problem: Problem, positions) -> int:
+    lo = min_positions(problem)
+    if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or not lo <= positions <= MAX_POSITIONS:
+        raise InputError("positions", positions, f"allowed: a whole number {lo} <= positions <= {MAX_POSITIONS} "
+                                                 f"(order 4 z_p resolved; z_p = {problem.cycloid.zp})")
+    return int(positions)
+
+
+def amplitude_spectrum(curve: np.ndarray) -> np.ndarray:
+    """One-sided amplitude of each order 0..N/2 of a curve sampled at N equal steps of a revolution
+    (order 0: the mean; order m: the amplitude of its cos/sin line)."""
+    n = curve.size
+    amp = np.abs(np.fft.rfft(curve)) / n
+    amp[1:] *= 2.0
+    if n % 2 == 0:
+        amp[-1] /= 2.0
+    return amp
+
+
+@dataclass(frozen=True, repr=False)
+class SpectralLine(Result):
+    order: int
+    amplitude_arcsec: float
+
+
+@dataclass(frozen=True, repr=False)
+class GroupShare(Result):
+    """TE peak-to-peak with one error group switched off, and the group's share of the TE variance
+    (1 - var(without) / var(all); shares need not add up: the first contact is not linear)."""
+
+    group: str
+    te_peak_to_peak_without_arcsec: float
+    variance_share: float
+
+
+@dataclass(frozen=True, repr=False)
+class TransmissionErrorResult(Result):
+    """Transmission error and rigid lost motion of one unit over a full output revolution."""
+
+    design_name: str
+    unit: str  # "nominal", or which measured / sampled unit
+    positions: int
+    load_direction: str  # the flank of the headline TE figures: ccw (output driven counter-clockwise) or cw
+    te_peak_to_peak_arcsec: float  # the catalogue figure, load_direction's flank
+    te_min_arcsec: float
+    te_max_arcsec: float
+    te_peak_to_peak_other_flank_arcsec: float
+    lost_motion_max_arcmin: float
+    lost_motion_min_arcmin: float
+    lost_motion_reference_arcmin: float  # at the bench's reference position (theta = 0: the unit's crank angle)
+    preloaded_positions: int  # positions where no rotation frees every pin (lost motion 0 there)
+    nominal_ripple_arcsec: float  # peak-to-peak of the error-free unit's own flank curve (the modifications')
+    leading_orders: tuple[SpectralLine, ...]
+    group_shares: tuple[GroupShare, ...]
+    crank_angle_deg: float
+    assumptions: str
+    output_angle_deg: np.ndarray = field(metadata={EXPORT: True})
+    te_ccw_arcsec: np.ndarray = field(metadata={EXPORT: True})
+    te_cw_arcsec: np.ndarray = field(metadata={EXPORT: True})
+    lost_motion_arcmin: np.ndarray = field(metadata={EXPORT: True})
+    spectrum_amplitude_arcsec: np.ndarray = field(metadata={EXPORT: True})  # by order 0..N/2, load_direction
+
+    @property
+    def te_arcsec(self) -> np.ndarray:
+        return self.te_ccw_arcsec if self.load_direction == "ccw" else self.te_cw_arcsec
+
+    def rows(self) -> list[dict]:
+        """One row per output position (CSV, DataFrame)."""
+        return [{"output_angle_deg": float(a), "te_ccw_arcsec": float(p), "te_cw_arcsec": float(m),
+                 "lost_motion_arcmin": float(lm)}
+                for a, p, m, lm in zip(self.output_angle_deg, self.te_ccw_arcsec, self.te_cw_arcsec,
+                                       self.lost_motion_arcmin)]
+
+    def summary(self) -> list[str]:
+        lines = ", ".join(f"{s.order}: {s.amplitude_arcsec:.2f}" for s in self.leading_orders[:5])
+        out = [f"{self.design_name}, {self.unit}: TE ({self.load_direction}) peak-to-peak "
+               f"{self.te_peak_to_peak_arcsec:.2f} arcsec over {self.positions} positions",
+               f"lost motion {self.lost_motion_min_arcmin:.4f} .. {self.lost_motion_max_arcmin:.4f} arcmin "
+               f"({self.lost_motion_reference_arcmin:.4f} at the reference position)",
+               f"leading orders [arcsec]: {lines}"]
+        if self.group_shares:
+            out.append("variance share by group: " + ", ".join(f"{s.group} {s.variance_share:.0%}"
+                                                                for s in self.group_shares))
+        return out
+
+
+# error groups: what switching a group off resets in a Realization (to the error-free unit's values)
+GROUPS: dict[str, tuple[str, ...]] = {
+    "disc teeth (cumulative pitch)": ("tooth_pitch_um",),
+    "pins (position, radius, hole clearance)": ("pin_radial_um", "pin_tangential_um", "pin_radius_um",
+                                                "pin_clearance_um"),
+    "disc run-out and crank eccentricity": ("runout_um", "eccentricity_error_um"),
+    "modification errors": ("equidistance_um", "moving_distance_um"),
+    "crank holes (disc, carrier)": ("disc_crank_hole_um", "carrier_crank_hole_um"),
+    "involute stage (gear eccentricities)": ("centre_gear_eccentricity_um", "planet_eccentricity_um"),
+}
+
+
+def _without(r: Realization, perfect: Realization, group: str) -> Realization:
+    return r.with_(**{name: getattr(perfect, name) for name in GROUPS[group]})
+
+
+def _has(r: Realization, perfect: Realization, group: str) -> bool:
+    """Does unit r carry errors of ``group`` (any field differing from the error-free unit's; None = 0)?"""
+    for name in GROUPS[group]:
+        v, p = getattr(r, name), getattr(perfect, name)
+        if v is not None and np.any(np.asarray(v, float) != np.asarray(0.0 if p is None else p, float)):
+            return True
+    return False
+
+
+def transmission_error(problem: Problem, r: Realization, label: str, positions: int = DEFAULT_POSITIONS,
+                       load_direction: str = "ccw", shares: bool = True) -> TransmissionErrorResult:
+    """The figures of one unit (module docstring). ``shares``: also the TE with each error group
+    the unit has switched off (one more revolution per group)."""
+    positions = check_positions(problem, positions)
+    if load_direction not in LOAD_DIRECTIONS:
+        raise InputError("load_direction", load_direction, f"allowed: {', '.join(LOAD_DIRECTIONS)}")
+    g = problem.cycloid
+    table = position_table(g, positions, float(r.chi_rad))
+    theta = table[0]
+    perfect = perfect_unit(problem, r.chi_rad)
+    ref = revolution(problem, perfect, positions, table=table)
+    run = revolution(problem, r, positions, table=table)
+
+    def te(rev: Revolution) -> tuple[np.ndarray, np.ndarray]:
+        return (rev.ccw_rad - ref.ccw_rad) * ARCSEC_PER_RAD, (rev.cw_rad - ref.cw_rad) * ARCSEC_PER_RAD
+
+    ccw, cw = te(run)
+    main, other = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
+    lm = (run.ccw_rad - run.cw_rad) * ARCMIN_PER_RAD
+    spec = amplitude_spectrum(main)
+    lead = np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1
+    out_shares = []
+    if shares:
+        var = float(np.var(main))
+        for group in GROUPS:
+            if not _has(r, perfect, group):
+                continue
+            c, w = te(revolution(problem, _without(r, perfect, group), positions, table=table))
+            m = c if load_direction == "ccw" else w
+            out_shares.append(GroupShare(group, float(np.ptp(m)), 1.0 - float(np.var(m)) / var if var > 0 else 0.0))
+    ripple = (ref.ccw_rad if load_direction == "ccw" else ref.cw_rad) * ARCSEC_PER_RAD
+    return TransmissionErrorResult(
+        problem.name, label, positions, load_direction, float(np.ptp(main)), float(main.min()), float(main.max()),
+        float(np.ptp(other)), float(lm.max()), float(lm.min()), float(lm[0]), int(np.count_nonzero(run.preload_um > 0)),
+        float(np.ptp(ripple)), tuple(SpectralLine(int(k), float(spec[k])) for k in lead), tuple(out_shares),
+        math.degrees(r.chi_rad), ASSUMPTIONS, np.degrees(theta), ccw, cw, lm, spec)

@@ -1,0 +1,46 @@
+"""Figures of the transmission-error model (docs/transmission-error.md), as SVG text, drawn from
+results only: a unit's TE curves over the output revolution with its lost motion, and the
+amplitude spectrum by order."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from rvbacklash.report.plots import BLUE, GREEN, GREY, RED, _svg, plt
+
+
+def te_figure(result, others: Sequence = (), title: str = ""):
+    """Left: TE of each load direction against the output angle (and of ``others``, the loaded
+    flank only), lost motion on a second axis; right: the loaded flank's amplitude spectrum."""
+    fig, (ax, sx) = plt.subplots(1, 2, figsize=(11.0, 4.2), gridspec_kw={"width_ratios": [1.6, 1.0]})
+    r = result
+    ax.plot(r.output_angle_deg, r.te_ccw_arcsec, color=BLUE, lw=1.0,
+            label=f"{r.unit}, ccw flank (p-p {np.ptp(r.te_ccw_arcsec):.1f}″)")
+    ax.plot(r.output_angle_deg, r.te_cw_arcsec, color=GREEN, lw=0.8, ls="--",
+            label=f"cw flank (p-p {np.ptp(r.te_cw_arcsec):.1f}″)")
+    for o, color in zip(others, (RED, GREY)):
+        ax.plot(o.output_angle_deg, o.te_arcsec, color=color, lw=0.8, label=f"{o.unit} (p-p {o.te_peak_to_peak_arcsec:.1f}″)")
+    ax.set_xlabel("output angle [deg]")
+    ax.set_ylabel("transmission error [arcsec]")
+    ax.set_xlim(0, 360)
+    ax.grid(alpha=0.3)
+    lm = ax.twinx()
+    lm.plot(r.output_angle_deg, r.lost_motion_arcmin, color=GREY, lw=0.6, alpha=0.7)
+    lm.set_ylabel("rigid lost motion [arcmin] (grey)")
+    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
+    ax.set_title(title or f"{r.design_name}: transmission error over one output revolution", fontsize=10)
+    orders = np.arange(r.spectrum_amplitude_arcsec.size)
+    sx.vlines(orders[1:], 0, r.spectrum_amplitude_arcsec[1:], color=BLUE, lw=1.0)
+    sx.set_xlabel("order (per output revolution)")
+    sx.set_ylabel(f"amplitude [arcsec], {r.load_direction} flank")
+    sx.set_xlim(0, min(orders[-1], 200))
+    sx.grid(alpha=0.3)
+    sx.set_title("spectrum", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def te_svg(result, others: Sequence = (), title: str = "") -> str:
+    return _svg(te_figure(result, others, title))

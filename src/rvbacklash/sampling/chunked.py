@@ -1,0 +1,23 @@
+"""Serial draws, parallel evaluation: the pattern of the per-unit block sources (transmission error;
+the elastic model's source repeats it and can use this function after the merge of issue 16)."""
+
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any, Callable
+
+
+def draw_then_evaluate(n: int, chunk: int, threads: int, draw: Callable[[int, int], Any],
+                       evaluate: Callable[[int, Any], None]) -> None:
+    """Units [0, n) in chunks: ``draw(start, m)`` in order on this thread (one stream per factor,
+    so the numbers do not depend on the pool), ``evaluate(start, units)`` by a pool of ``threads``
+    (nogil kernels, each chunk filling its own slice); at most threads + 1 chunks in flight."""
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        jobs = []
+        for start in range(0, n, chunk):
+            m = min(chunk, n - start)
+            if len(jobs) > threads:  # bounded memory
+                jobs.pop(0).result()
+            jobs.append(pool.submit(evaluate, start, draw(start, m)))
+        for job in jobs:
+            job.result()

@@ -1,0 +1,69 @@
+"""End-to-end runs of ``rvbacklash transmission-error`` and the measured-unit format's kinematics table."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from helpers import one_line_error, run_cli
+from rvbacklash.design.loading import load_design
+from rvbacklash.design.measured import units_from_toml, units_to_toml
+
+UNIT = """
+[pins]
+radius_um = [{pins}]
+[kinematics]
+centre_gear_eccentricity_um = [1.0, -2.0]
+planet_eccentricity_um = [[1.0, 0.0], [0.0, 1.0], [0.5, 0.5]]
+carrier_crank_holes_um = [[2.0, 0.0], [0.0, 0.0], [0.0, -1.0]]
+disc_crank_holes_um = [[[0.0, 0.0], [1.0, 1.0], [0.0, 0.0]], [[0.0, 0.0], [0.0, 0.0], [-3.0, 0.0]]]
+"""
+
+
+def test_nominal_curve_json_csv_plot(tmp_path):
+    p = run_cli("transmission-error", "rv80e", "--positions", "400", "--json", tmp_path / "te.json", "--csv",
+                tmp_path / "te.csv", "--plot", tmp_path / "te.svg")
+    assert p.returncode == 0, p.stderr
+    data = json.loads((tmp_path / "te.json").read_text())
+    assert data["te_peak_to_peak_arcsec"] == 0.0 and len(data["te_ccw_arcsec"]) == 400
+    assert len(data["spectrum_amplitude_arcsec"]) == 201
+    assert 1.0 < data["lost_motion_reference_arcmin"] < 1.2
+    assert (tmp_path / "te.csv").read_text().splitlines()[0].startswith("output_angle_deg")
+    assert (tmp_path / "te.svg").read_text().lstrip().startswith("<")
+
+
+def test_measured_unit_with_kinematics(tmp_path):
+    design = load_design("rv80e")
+    text = UNIT.format(pins=", ".join(["1.0"] * design.second_stage.pins))
+    units = units_from_toml(text, design)
+    again = units_from_toml(units_to_toml(units), design)
+    assert again[0].kinematics == units[0].kinematics
+    f = tmp_path / "unit.toml"
+    f.write_text(text)
+    p = run_cli("transmission-error", "rv80e", "--measured", f, "--positions", "400", "--json", tmp_path / "u.json")
+    assert p.returncode == 0, p.stderr
+    data = json.loads((tmp_path / "u.json").read_text())
+    assert data["te_peak_to_peak_arcsec"] > 0.1
+    groups = {g["group"] for g in data["group_shares"]}
+    assert {"crank holes (disc, carrier)", "involute stage (gear eccentricities)"} <= groups
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (("--positions", "100"), "positions"),
+    (("--load-direction", "up"), "load_direction"),
+    (("--unit", "0"), "unit"),
+])
+def test_bad_input_is_one_line(tmp_path, args, fragment):
+    out = tmp_path / "te.json"
+    one_line_error(run_cli("transmission-error", "rv80e", *args, "--json", out), fragment)
+    assert not out.exists()
+
+
+def test_bad_kinematics_shape_names_the_field():
+    design = load_design("rv80e")
+    bad = "[kinematics]\nplanet_eccentricity_um = [[1.0, 0.0]]\n"
+    with pytest.raises(Exception) as e:
+        units_from_toml(bad, design)
+    assert "kinematics.planet_eccentricity_um" in str(e.value)

@@ -1,0 +1,141 @@
+"""Oracles of the transmission-error model (models.kinematics, analysis.transmission): perfect parts,
+single errors with a closed-form answer, and the lost motion against today's contact model."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rvbacklash.analysis.transmission import (GROUPS, amplitude_spectrum, kinematics, perfect_unit, revolution,
+                                              transmission_error)
+from rvbacklash.models.contact import exact_play, kernel_play
+from rvbacklash.models.kinematics import ARCSEC_PER_RAD
+from rvbacklash.problem import prepare
+from rvbacklash.design.loading import load_design
+
+N = 1024
+
+
+@pytest.fixture(scope="module")
+def problem():
+    return prepare(load_design("rv80e"))
+
+
+@pytest.fixture(scope="module")
+def nominal(problem):
+    return transmission_error(problem, perfect_unit(problem), "nominal", N, shares=False)
+
+
+def te_of(problem, r, n=N):
+    """TE of both flanks [arcsec] of unit r against the error-free unit."""
+    ref, run = revolution(problem, perfect_unit(problem, r.chi_rad), n), revolution(problem, r, n)
+    return (run.ccw_rad - ref.ccw_rad) * ARCSEC_PER_RAD, (run.cw_rad - ref.cw_rad) * ARCSEC_PER_RAD, run
+
+
+def test_perfect_parts_give_zero_te_and_todays_play_everywhere(problem, nominal):
+    g, k = problem.cycloid, kinematics(problem)
+    zeros = perfect_unit(problem).with_(centre_gear_eccentricity_um=np.zeros(2),
+                                        planet_eccentricity_um=np.zeros((k.planets, 2)),
+                                        disc_crank_hole_um=np.zeros((g.discs, k.planets, 2)),
+                                        carrier_crank_hole_um=np.zeros((k.planets, 2)))
+    ccw, cw, run = te_of(problem, zeros)
+    assert np.max(np.abs(ccw)) <= 1e-9 and np.max(np.abs(cw)) <= 1e-9
+    # the lost motion at every position is today's nominal play there (exact signed distances)
+    for n in (0, 1, 7, 300, 777):
+        chi = -g.zc * run.theta_rad[n]
+        play = exact_play(g, perfect_unit(problem, chi))
+        assert (run.ccw_rad[n] - run.cw_rad[n]) == pytest.approx(play.total_rad, abs=1e-6 / 10800 * math.pi)
+    assert nominal.te_peak_to_peak_arcsec == 0.0
+    assert nominal.preloaded_positions == 0
+    assert 0.0 < nominal.nominal_ripple_arcsec < 0.2  # the modifications' own ripple, order z_c z_p
+
+
+def test_lost_motion_at_todays_crank_angle_is_todays_play(problem):
+    from rvbacklash.sampling.contact_source import contact_source
+
+    src = contact_source(problem, "default", 3, save_units=12)
+    src.block(0, 12)
+    g = problem.cycloid
+    checked = 0
+    for r, _, stage in src.saved_units():
+        today = kernel_play(g, r)
+        if today.preloaded:
+            continue
+        res = transmission_error(problem, r, "sampled", 8 * g.zp + 1, shares=False)
+        assert res.lost_motion_reference_arcmin == pytest.approx(today.total_arcmin, abs=1e-6)
+        assert res.lost_motion_reference_arcmin == pytest.approx(exact_play(g, r).total_arcmin, abs=1e-6)
+        checked += 1
+    assert checked >= 3
+
+
+def test_planet_eccentricity_gives_an_order_zp_line_of_known_amplitude(problem):
+    """One planet with eccentricity e turns its crank by e sin(.) / r_b2 at the planet's rotation
+    (order z_p against the carrier); the discs follow the mean of the P cranks (1/P of it), and the
+    output turns by d chi / z_c: a line at order z_p of e / (P r_b2 z_c), on both flanks. (The cranks'
+    differences turn the two discs oppositely against the carrier: orders 0 and 2 z_p, and the play.)"""
+    g, k = problem.cycloid, kinematics(problem)
+    e = 5.0
+    planet = np.zeros((k.planets, 2))
+    planet[0] = (e, 0.0)
+    ccw, cw, _ = te_of(problem, perfect_unit(problem).with_(planet_eccentricity_um=planet))
+    expected = e * 1e-3 / (k.planets * k.base_radius_mm * g.zc) * ARCSEC_PER_RAD
+    for curve in (ccw, cw):
+        spec = amplitude_spectrum(curve)
+        assert spec[g.zp] == pytest.approx(expected, rel=2e-3)
+
+
+def test_centre_gear_eccentricity_cancels_to_the_disc_turn_of_the_crank_fit(problem):
+    """The centre gear's eccentricity turns the P cranks by equal amounts 120 deg apart in phase: their
+    mean cancels (no order-z_p line); what is left turns the discs against the carrier (least-squares
+    fit on the P eccentrics) by eps = a e / (2 R_c r_b2) sin((i - 1 + z_p) theta + phi), the two discs
+    (180 deg apart on the cranks) in opposite senses: each flank follows the disc that touches
+    first, -|eps| and +|eps| (a rectified line: peak-to-peak a e / (2 R_c r_b2), even orders), and
+    their mean stays 0."""
+    g, k = problem.cycloid, kinematics(problem)
+    e = 5.0
+    ccw, cw, _ = te_of(problem, perfect_unit(problem).with_(centre_gear_eccentricity_um=np.array([0.0, e])))
+    expected = g.a_mm * e * 1e-3 / (2 * k.crank_radius_mm * k.base_radius_mm) * ARCSEC_PER_RAD
+    assert np.ptp(ccw) == pytest.approx(expected, rel=1e-2) and np.ptp(cw) == pytest.approx(expected, rel=1e-2)
+    assert np.max(ccw) < 1e-3 * expected and -np.min(ccw) > 0.99 * expected
+    assert np.max(np.abs(ccw + cw)) < 1e-2 * expected
+    spec = amplitude_spectrum(ccw)
+    assert spec[g.zp] < 1e-6 and spec[int(round(k.ratio)) - 1 + g.zp] < 1e-6
+
+
+def test_turned_carrier_holes_give_an_offset_without_variation(problem):
+    """Every carrier seat moved by u along the tangent of the crank circle: the discs sit turned by
+    u / R_c against the carrier, the pins fix the discs, so the output lags by u / R_c everywhere."""
+    k = kinematics(problem)
+    u = 4.0
+    gam = 2 * math.pi * np.arange(k.planets) / k.planets
+    holes = u * np.stack([-np.sin(gam), np.cos(gam)], axis=1)
+    ccw, cw, _ = te_of(problem, perfect_unit(problem).with_(carrier_crank_hole_um=holes))
+    expected = -u * 1e-3 / k.crank_radius_mm * ARCSEC_PER_RAD
+    for curve in (ccw, cw):
+        assert np.allclose(curve, expected, rtol=1e-6, atol=1e-6)
+
+
+def test_uniform_pin_radius_change_is_an_offset(problem):
+    g = problem.cycloid
+    ccw, cw, _ = te_of(problem, perfect_unit(problem).with_(pin_radius_um=np.full(g.zp, 2.0)))
+    # larger pins: the ccw flank closes earlier, the cw flank later, by about 2 um / (a z_c)
+    assert ccw.mean() < 0 < cw.mean()
+    assert abs(ccw.mean()) == pytest.approx(2e-3 / (g.a_mm * g.zc) * ARCSEC_PER_RAD, rel=0.05)
+    assert np.ptp(ccw) < 0.01 * abs(ccw.mean()) and np.ptp(cw) < 0.01 * abs(cw.mean())
+
+
+def test_group_shares_name_the_groups_a_unit_has(problem):
+    from rvbacklash.sampling.contact_source import contact_source
+
+    src = contact_source(problem, "default", 5, save_units=1)
+    src.block(0, 1)
+    r = src.saved_units()[0][0]
+    res = transmission_error(problem, r, "sampled", 8 * problem.cycloid.zp + 1)
+    names = [s.group for s in res.group_shares]
+    assert "disc teeth (cumulative pitch)" in names and "crank holes (disc, carrier)" not in names
+    assert set(names) <= set(GROUPS)
+    assert res.te_peak_to_peak_arcsec > 1.0
+    assert res.to_frame().shape == (8 * problem.cycloid.zp + 1, 4)
+    assert "peak-to-peak" in repr(res)

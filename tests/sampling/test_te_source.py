@@ -1,0 +1,89 @@
+"""The transmission-error production run: reproducible on any thread count, the contact model's
+units, the fast path against the exact solve, specs and bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rvbacklash.analysis.simulation import simulate
+from rvbacklash.analysis.transmission import perfect_unit, revolution
+from rvbacklash.errors import InputError
+from rvbacklash.models.kinematics import ARCSEC_PER_RAD
+from rvbacklash.problem import prepare
+from rvbacklash.design.loading import load_design
+from rvbacklash.sampling import te_source
+from rvbacklash.sampling.te_source import transmission_source
+
+
+@pytest.fixture(scope="module")
+def problem():
+    return prepare(load_design("rv80e"))
+
+
+def test_same_seed_same_numbers_on_any_thread_count(problem, monkeypatch):
+    a = transmission_source(problem, "default", 7).block(2, 40)
+    monkeypatch.setattr(te_source, "EVAL_THREADS", 1)
+    monkeypatch.setattr(te_source, "CHUNK", 7)
+    b = transmission_source(problem, "default", 7).block(2, 40)
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, transmission_source(problem, "default", 8).block(2, 40))
+    r1 = simulate(problem, samples=30, seed=3, model="transmission", workers=1, specs={"transmission_error": 60.0})
+    r2 = simulate(problem, samples=30, seed=3, model="transmission", workers=2, specs={"transmission_error": 60.0})
+    assert r1.outputs["transmission_error"].mean == r2.outputs["transmission_error"].mean
+    assert r1.outputs["transmission_error"].yield_ is not None
+
+
+def test_the_runs_units_are_the_contact_models(problem):
+    """The backlash at the reference position is the contact model's backlash of the same units at
+    crank angle 0 (the same draws; the fast path's linearised first contact), once the kinematic
+    factors (which the contact model does not have) are switched off."""
+    from dataclasses import replace
+
+    from rvbacklash.models.contact import kernel_play
+    from rvbacklash.sampling.contact_source import contact_source
+
+    src = replace(transmission_source(problem, "default", 4), sigmas_um=np.zeros(4))
+    out = src.block(0, 6)
+    c = contact_source(problem, "default", 4, save_units=6)
+    c.block(0, 6)
+    g = problem.cycloid
+    for k, (r, lin, _) in enumerate(c.saved_units()):
+        play = kernel_play(g, r.with_(chi_rad=0.0))
+        expected = lin + (play.lost_motion_arcmin if not play.preloaded else 0.0)
+        assert out[0, k] == pytest.approx(expected, abs=2e-3)
+
+
+def test_fast_path_tracks_the_exact_solve(problem):
+    from rvbacklash.sampling.contact_source import contact_source
+
+    c = contact_source(problem, "default", 11, save_units=4)
+    c.block(0, 4)
+    n = 8 * problem.cycloid.zp + 1
+    for r, _, _ in c.saved_units():
+        r = r.with_(chi_rad=0.0)
+        ref_e, ref_l = (revolution(problem, perfect_unit(problem), n, exact=x) for x in (True, False))
+        e, lin = revolution(problem, r, n, exact=True), revolution(problem, r, n, exact=False)
+        pp_e = np.ptp(e.ccw_rad - ref_e.ccw_rad) * ARCSEC_PER_RAD
+        pp_l = np.ptp(lin.ccw_rad - ref_l.ccw_rad) * ARCSEC_PER_RAD
+        assert pp_l == pytest.approx(pp_e, rel=0.02)
+
+
+def test_bad_input(problem):
+    with pytest.raises(InputError, match="method"):
+        transmission_source(problem, "sobol", 1)
+    with pytest.raises(InputError, match="save_units"):
+        transmission_source(problem, "default", 1, save_units=3)
+
+
+def test_sobol_streams_of_te_name_the_kinematic_factors(problem):
+    from numpy.random import PCG64, Generator
+
+    from rvbacklash.analysis.sensitivity_global import stream_model
+    from rvbacklash.factors.catalog import KINEMATIC_KEYS
+
+    sm = stream_model(problem, "transmission")
+    assert sm.inputs[-len(KINEMATIC_KEYS):] == KINEMATIC_KEYS and len(sm.random) == len(sm.inputs)
+    gens = lambda: [Generator(PCG64(k)) for k in range(len(sm.inputs))]  # noqa: E731
+    a, b = sm.block(gens(), 5), sm.block(gens(), 5)
+    assert a.shape == (3, 5) and np.array_equal(a, b)
