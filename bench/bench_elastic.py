@@ -12,6 +12,7 @@ Each is timed after a warm-up run (compilation or cache load outside the timing)
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 from concurrent.futures import ThreadPoolExecutor
 
@@ -22,7 +23,10 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=float, default=1e5, help="units of the end-to-end runs")
     ap.add_argument("--units", type=int, default=20000, help="pre-drawn units of the evaluation benchmark")
+    ap.add_argument("--tiny", action="store_true", help="tiny sizes: the test suite runs every bench so none rots")
     a = ap.parse_args()
+    if a.tiny:
+        a.samples, a.units = 64, 64
     from rvbacklash import prepare, simulate
     from rvbacklash.analysis.simulation import default_workers
     from rvbacklash.models.elastic import elastic_model
@@ -37,13 +41,15 @@ def main() -> None:
     t = time.perf_counter()
     units = sample_units(problem, 1, a.units)
     draw = a.units / (time.perf_counter() - t)
-    evaluate_batch(model, UnitBatch(units.gap_um[:10], units.lever_um_per_rad[:10], units.chi_rad[:10],
-                                    units.involute_backlash_rad[:10], units.crank_clearance_um[:10]))  # compile / load
+
+    def subset(idx) -> UnitBatch:  # every array of the batch, whatever fields UnitBatch has
+        return UnitBatch(**{f.name: getattr(units, f.name)[idx] for f in dataclasses.fields(UnitBatch)})
+
+    evaluate_batch(model, subset(slice(0, 10)))  # compile / load
     parts = np.array_split(np.arange(a.units), workers)
 
     def run(idx):
-        return evaluate_batch(model, UnitBatch(units.gap_um[idx], units.lever_um_per_rad[idx], units.chi_rad[idx],
-                                               units.involute_backlash_rad[idx], units.crank_clearance_um[idx]))
+        return evaluate_batch(model, subset(idx))
 
     t = time.perf_counter()
     with ThreadPoolExecutor(workers) as pool:
@@ -53,11 +59,11 @@ def main() -> None:
     run(np.arange(min(a.units, 5000)))
     cpu = min(a.units, 5000) / (time.process_time() - t)
 
-    simulate(problem, samples=2000, seed=0, model="elastic")
+    simulate(problem, samples=min(n, 2000), seed=0, model="elastic")
     t = time.perf_counter()
     simulate(problem, samples=n, seed=1, model="elastic")
     elastic = n / (time.perf_counter() - t)
-    simulate(problem, samples=1 << 16, seed=0, model="contact")
+    simulate(problem, samples=min(n, 1 << 16), seed=0, model="contact")
     t = time.perf_counter()
     simulate(problem, samples=n, seed=1, model="contact")
     contact = n / (time.perf_counter() - t)

@@ -298,6 +298,8 @@ class SweepStore:
 
     def _open(self, force: bool) -> None:
         self.check_out(self.root)
+        # a directory this store creates (or finds empty) is removed again if the sweep never finishes a point
+        self.created = not self.root.exists() or not any(self.root.iterdir())
         state_path = self.root / STATE_FILE
         state = None
         if state_path.is_file():
@@ -353,6 +355,15 @@ class SweepStore:
         if getattr(self, "_lock_file", None) is not None:
             self._lock_file.close()  # releases the lock
             self._lock_file = None
+
+    def discard_if_unused(self) -> None:
+        """Remove the directory again when this store created it and no point finished (e.g. the
+        scheduler could not be reached): a sweep that never started leaves nothing behind."""
+        if not self.created or self.rows or any(self.points_dir.glob("*.json")):
+            return
+        self.close()
+        with contextlib.suppress(OSError):
+            shutil.rmtree(self.root)
 
     def _clear(self) -> None:
         for name in OWNED:
@@ -594,6 +605,7 @@ def run_sweep(plan: SweepPlan, *, out: str | Path | None = None, scheduler: str 
         return _run(plan, store, scheduler, workers, progress, stop, t0, out)
     except BaseException:  # a second Ctrl-C, or a failed point: what finished stays on disk, in the files too
         if store is not None:
+            store.discard_if_unused()
             with contextlib.suppress(Exception):
                 store.flush()
                 store.write_state("partial", interrupted=True)
