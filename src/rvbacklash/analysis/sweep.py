@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
 
+from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.executor import Executor, check_scheduler, check_workers, cores, dask_available, executor
 from rvbacklash.analysis.simulation import MODELS, check_run_parameters, simulate
 from rvbacklash.atomic import atomic_write
@@ -375,7 +376,7 @@ class SweepStore:
 
     def write_state(self, status: str, **extra: Any) -> None:
         p = self.plan
-        state = {"name": p.spec.name, "fingerprint": p.fingerprint, "status": status, "points_total": len(p),
+        state = {"schema_version": SCHEMA_VERSION, "name": p.spec.name, "fingerprint": p.fingerprint, "status": status, "points_total": len(p),
                  "points_done": len(self.rows), "parameters": list(p.parameters), "labels": list(p.labels),
                  "outputs": [o.__dict__ for o in p.outputs], "limits": p.limits, "design": p.base_name,
                  "design_source": p.base_origin, "sweep_source": p.origin,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from enum import Enum
 from pathlib import Path
 from typing import Optional
 
@@ -392,14 +393,32 @@ def tolerance_iso286(
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv([row])}, table, data, [row])
 
 
+class SchemaOutput(str, Enum):
+    simulate = "simulate"
+    analyze = "analyze"
+    hysteresis = "hysteresis"
+    allocate = "allocate"
+    sensitivity = "sensitivity"
+    sweep = "sweep"
+
+
 @app.command()
 @command
-def schema() -> None:
-    """Print the JSON schema of the design file."""
-    from rvbacklash.design.schema import Design
+def schema(output: Optional[SchemaOutput] = typer.Option(
+        None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
+                               "hysteresis, allocate, sensitivity, sweep); its schema_version is in CHANGELOG.md.")
+           ) -> None:
+    """Print the JSON schema of the design file, or of a command's JSON output (--output)."""
     from rvbacklash.report.files import render_json
 
-    sys.stdout.write(render_json(Design.model_json_schema()))
+    if output is None:
+        from rvbacklash.design.schema import Design
+
+        sys.stdout.write(render_json(Design.model_json_schema(), stamp=False))
+        return
+    from rvbacklash.report.schemas import output_schema
+
+    sys.stdout.write(render_json(output_schema(output.value), stamp=False))
 
 
 @app.command()
