@@ -21,7 +21,11 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=float, default=1 << 14)
     ap.add_argument("--local", action="store_true", help="also run the contact search on a local Dask cluster")
+    ap.add_argument("--tiny", action="store_true", help="tiny sizes: the test suite runs every bench so none rots")
     a = ap.parse_args()
+    sobol, mc_spec, mc_yield = 1 << 14, 1.5, 0.95
+    if a.tiny:
+        a.samples, sobol, mc_spec, mc_yield = 1000, 64, 3.0, 0.9
     import rvbacklash as rb
     from rvbacklash.analysis.simulation import default_workers
 
@@ -38,25 +42,25 @@ def main() -> None:
     print(f"  without the front: {time.perf_counter() - t:6.2f} s (same grades: {lin1.grades == lin.grades})")
 
     n = int(a.samples)
-    rb.simulate(problem, samples=4096, model="contact")  # compile the contact kernels outside the timing
+    rb.simulate(problem, samples=min(n, 4096), model="contact")  # compile the contact kernels outside the timing
     t = time.perf_counter()
-    mc = rb.allocate(problem, model="contact", spec_arcmin=1.5, yield_target=0.95, samples=n, seed=0)
+    mc = rb.allocate(problem, model="contact", spec_arcmin=mc_spec, yield_target=mc_yield, samples=n, seed=0)
     t_mc = time.perf_counter() - t
-    print(f"contact allocation (rv80e, 1.5 arcmin at 95 %, {n} samples per candidate, inline, {default_workers()} "
+    print(f"contact allocation (rv80e, {mc_spec} arcmin at {mc_yield:.0%}, {n} samples per candidate, inline, {default_workers()} "
           f"threads): {t_mc:6.1f} s; {mc.evaluations} runs; cost {mc.cost:.4g} vs baseline "
           f"{mc.baseline.cost if mc.baseline.cost is None else round(mc.baseline.cost, 4)}, yield "
           f"{mc.yield_.fraction:.4f} [{mc.yield_.ci95_low:.4f}, {mc.yield_.ci95_high:.4f}], verified "
           f"{mc.verification.fraction:.4f}")
     if a.local:
         t = time.perf_counter()
-        mc2 = rb.allocate(problem, model="contact", spec_arcmin=1.5, yield_target=0.95, samples=n, seed=0,
+        mc2 = rb.allocate(problem, model="contact", spec_arcmin=mc_spec, yield_target=mc_yield, samples=n, seed=0,
                           scheduler="local")
         print(f"  on a local cluster ({default_workers()} processes): {time.perf_counter() - t:6.1f} s "
               f"(cluster start included); same grades: {mc2.grades == mc.grades}")
 
-    rb.sensitivity(problem, samples=256, resamples=100)
+    rb.sensitivity(problem, samples=min(sobol, 256), resamples=100)
     t = time.perf_counter()
-    s = rb.sensitivity(problem, samples=1 << 14)
+    s = rb.sensitivity(problem, samples=sobol)
     print(f"Sobol indices (linear, N = {s.samples}, {s.model_runs:,} runs, {s.resamples} resamples): "
           f"{time.perf_counter() - t:6.2f} s")
 

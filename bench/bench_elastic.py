@@ -22,7 +22,10 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=float, default=1e5, help="units of the end-to-end runs")
     ap.add_argument("--units", type=int, default=20000, help="pre-drawn units of the evaluation benchmark")
+    ap.add_argument("--tiny", action="store_true", help="tiny sizes: the test suite runs every bench so none rots")
     a = ap.parse_args()
+    if a.tiny:
+        a.samples, a.units = 64, 64
     from rvbacklash import prepare, simulate
     from rvbacklash.analysis.simulation import default_workers
     from rvbacklash.models.elastic import elastic_model
@@ -55,11 +58,11 @@ def main() -> None:
     run(np.arange(min(a.units, 5000)), rigid)
     cpu_rigid = min(a.units, 5000) / (time.process_time() - t)
 
-    simulate(problem, samples=2000, seed=0, model="elastic")
+    simulate(problem, samples=min(n, 2000), seed=0, model="elastic")
     t = time.perf_counter()
     simulate(problem, samples=n, seed=1, model="elastic")
     elastic = n / (time.perf_counter() - t)
-    simulate(problem, samples=1 << 16, seed=0, model="contact")
+    simulate(problem, samples=min(n, 1 << 16), seed=0, model="contact")
     t = time.perf_counter()
     simulate(problem, samples=n, seed=1, model="contact")
     contact = n / (time.perf_counter() - t)

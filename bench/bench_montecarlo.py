@@ -18,13 +18,13 @@ import time
 import numpy as np
 
 
-def engine_rate(samples: int) -> tuple[float, float]:
+def engine_rate(samples: int, warm: int = 1 << 16) -> tuple[float, float]:
     from rvbacklash import load_design
     from rvbacklash import simulate
     from rvbacklash.analysis.simulation import default_workers
 
     d = load_design("sun2014")
-    simulate(d, samples=1 << 16, seed=0)  # compile / load the kernels outside the timing
+    simulate(d, samples=warm, seed=0)  # compile / load the kernels outside the timing
     t = time.perf_counter()
     simulate(d, samples=samples, seed=1, spec_arcmin=3.0)
     dt = time.perf_counter() - t
@@ -58,8 +58,11 @@ def main() -> None:
     ap.add_argument("--samples", type=float, default=1e8)
     ap.add_argument("--numpy-samples", type=float, default=2e7)
     ap.add_argument("--rss-samples", type=float, default=1e8)
+    ap.add_argument("--tiny", action="store_true", help="tiny sizes: the test suite runs every bench so none rots")
     a = ap.parse_args()
-    eng, workers = engine_rate(int(a.samples))
+    if a.tiny:
+        a.samples = a.numpy_samples = a.rss_samples = 4096
+    eng, workers = engine_rate(int(a.samples), min(int(a.samples), 1 << 16))
     raw = numpy_rate(int(a.numpy_samples))
     print(f"engine (sun2014, linear, 21 normals, {workers} threads): {eng / 1e6:8.1f} M samples/s")
     print(f"numpy generate N x 21 normals only (1 thread):          {raw / 1e6:8.1f} M samples/s")

@@ -32,13 +32,17 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=2**16, help="samples per point (default 2^16: one block)")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--tiny", action="store_true", help="tiny sizes: the test suite runs every bench so none rots")
     args = ap.parse_args()
+    count = 8
+    if args.tiny:
+        args.samples, args.workers, count = 256, 1, 2
     spec = SweepSpec(design="rv80e", model="contact", samples=args.samples, seed=1, name="bench",
                      specs={"backlash": 1.0, "preload": 5.0},
                      parameters=[Parameter(path="second_stage.equidistance_modification_um", start=0.0, stop=17.5,
-                                           count=8),
+                                           count=count),
                                  Parameter(path="second_stage.moving_distance_modification_um", start=-10.0,
-                                           stop=7.5, count=8)])
+                                           stop=7.5, count=count)])
     t = time.perf_counter()
     plan = plan_sweep(spec)
     print(f"plan: {len(plan)} points x {args.samples:,} samples, contact model, validated in "

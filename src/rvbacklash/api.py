@@ -34,6 +34,7 @@ if TYPE_CHECKING:
 
 DesignLike = Union[Design, str, Path, Problem]
 DEFAULT_SAMPLES = 1_000_000  # = analysis.simulation.DEFAULT_SAMPLES (a test keeps them equal)
+ALLOCATION_SAMPLES = 1 << 16  # per candidate of a Monte-Carlo allocation (= analysis.allocation.DEFAULT_MC_SAMPLES)
 REPORT_SCENARIO_SAMPLES = 1_000_000  # scenarios of a report: at most this many samples each
 
 
@@ -175,7 +176,8 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 scenarios: Iterable[Scenario] = (), paper: bool = False, model: str = "linear",
                 workers: int | None = None, sensitivity: bool = False, allocate: bool = False,
                 yield_target: float | None = None, spec_rigidity_nm_per_arcmin: float | None = None,
-                spec_preload_um: float | None = None,
+                spec_preload_um: float | None = None, allocate_model: str | None = None,
+                allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
                 progress: Callable[[int], None] | None = None) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
@@ -183,7 +185,9 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
     histograms); ``sensitivity``: Sobol indices of the model; ``allocate``: the cheapest grades
     meeting ``spec_arcmin`` [and ``spec_rigidity_nm_per_arcmin``, ``spec_preload_um``] at ``yield_target`` (with
-    the Sobol chart); ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``). An
+    the Sobol chart) with ``allocate_model`` (default: ``model``; e.g. "linear" for a fast, conservative
+    allocation beside a Monte-Carlo report) and ``allocate_samples`` per candidate (Monte-Carlo models);
+    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``). An
     interrupted simulation skips what follows it; the data are then marked partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
@@ -193,6 +197,10 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     problem = prepare(design)
+    if allocate_model is not None and allocate_model not in ("linear", "contact", "elastic"):
+        raise InputError("allocate_model", allocate_model, "allowed: linear, contact or elastic")
+    if allocate_model is not None and not allocate:
+        raise InputError("allocate_model", allocate_model, "allowed with allocate only")
     if allocate and (spec_arcmin is None or yield_target is None):
         raise InputError("yield_target" if spec_arcmin is not None else "spec_arcmin",
                          yield_target if spec_arcmin is not None else spec_arcmin,
@@ -229,9 +237,11 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     if allocate and not sim.partial:
         from rvbacklash.analysis.allocation import allocate as _allocate
 
-        alloc = _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
-                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                          seed=seed, workers=workers)
+        by = allocate_model or model
+        alloc = _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=by,
+                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin if by == "elastic" else None,
+                          spec_preload_um=spec_preload_um if by != "linear" else None, seed=seed, workers=workers,
+                          **({"samples": allocate_samples} if by != "linear" else {}))
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
                              elastic, sweep)
 
@@ -278,7 +288,6 @@ def elastic_section(design: DesignLike, *, simulation: SimulationResult | None =
 
 SENSITIVITY_SAMPLES = 1 << 14  # = analysis.sensitivity_global.DEFAULT_SAMPLES
 REPORT_SENSITIVITY_SAMPLES = 1 << 11  # Sobol indices of the Monte-Carlo models in a report: N (D + 2) ~ 45 000 units
-ALLOCATION_SAMPLES = 1 << 16  # per candidate of a Monte-Carlo allocation (= analysis.allocation.DEFAULT_MC_SAMPLES)
 
 
 def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None = None,

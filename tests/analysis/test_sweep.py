@@ -332,3 +332,25 @@ def test_one_sweep_at_a_time_in_a_directory(plan, tmp_path):
     run_sweep(plan, out=out, scheduler="inline", progress=progress)
     assert refused and refused[0].field == "out" and "in use by another running sweep" in refused[0].allowed
     assert run_sweep(plan, out=out, scheduler="inline").skipped == 6  # the lock went with the first run
+
+
+def test_a_sweep_that_cannot_start_leaves_nothing_behind(plan, tmp_path, monkeypatch):
+    """Issue 18: an unreachable scheduler left DIR/.lock and DIR/sweep.json behind. A directory the
+    sweep created (or found empty) is removed again; a sweep's directory stays as a resume finds it."""
+    import rvbacklash.analysis.executor as ex
+
+    monkeypatch.setattr(ex, "CONNECT_TIMEOUT_S", 0.5)
+    for out in (tmp_path / "new", tmp_path / "empty"):
+        if out.name == "empty":
+            out.mkdir()
+        with pytest.raises(InputError) as e:
+            run_sweep(plan, out=out, scheduler="tcp://127.0.0.1:1")
+        assert e.value.field == "scheduler" and "cannot connect" in str(e.value)
+        assert not out.exists()
+    done = tmp_path / "done"
+    first = run_sweep(plan, out=done, scheduler="inline")
+    (done / "points" / sorted(os.listdir(done / "points"))[0]).unlink()  # one point to run again
+    with pytest.raises(InputError):
+        run_sweep(plan, out=done, scheduler="tcp://127.0.0.1:1")
+    assert len(read_points(done / "points", plan)) == len(plan) - 1
+    assert run_sweep(plan, out=done, scheduler="inline").rows() == first.rows()  # the resume uses what stayed

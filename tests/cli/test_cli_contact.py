@@ -93,3 +93,16 @@ def test_unit_index_and_missing_file(tmp_path):
     one_line_error(run_cli("contact", "rv80e", "--unit", "0"), "--unit = 0: allowed only with measured units")
     one_line_error(run_cli("simulate", "rv80e", "-n", "100", "--save-units", "5", tmp_path / "x.toml"),
                    "--save-units = 5: allowed with the contact and elastic models")
+
+
+@pytest.mark.parametrize("command,text", [("contact", ""), ("hysteresis", ""), ("contact", "# exported, no rows\n"),
+                                          ("hysteresis", "[pins]\n"), ("contact", "crank_angle_deg = 0.0\n"),
+                                          ("contact", "[[unit]]\ncrank_angle_deg = 0.0\n[unit.pins]\n")])
+def test_empty_or_unitless_measured_file_is_one_line_error(tmp_path, text, command):
+    """Issue 18: an empty export was read silently as a perfect unit (a plausible answer from nothing)."""
+    f = tmp_path / "empty.toml"
+    f.write_text(text)
+    line = one_line_error(run_cli(command, "rv80e", "--measured", f, "--json", tmp_path / "o.json"),
+                          "no measured values")
+    assert str(f) in line and "at least one measured array" in line
+    assert not (tmp_path / "o.json").exists()

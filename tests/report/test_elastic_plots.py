@@ -1,12 +1,12 @@
 """The elastic model's figures and the report partial render from results."""
 
-import jinja2
 import pytest
 
 from rvbacklash.analysis.hysteresis import elastic_section
 from rvbacklash.analysis.simulation import simulate
 from rvbacklash.problem import prepare
 from rvbacklash.report.elastic_plots import elastic_figures, loop_svg
+from rvbacklash.report.templating import environment
 
 
 @pytest.fixture(scope="module")
@@ -26,10 +26,7 @@ def test_loop_svg_is_deterministic(section):
 def test_partial_renders_with_every_figure(section):
     figures = elastic_figures(section)
     assert figures["elastic_loop"].startswith("<svg") and figures["elastic_histograms"].startswith("<svg")
-    env = jinja2.Environment(loader=jinja2.PackageLoader("rvbacklash.report", "templates"),
-                             autoescape=jinja2.select_autoescape(["html", "j2"]), undefined=jinja2.StrictUndefined)
-    env.filters["fmt"] = lambda v, spec=".4f": "–" if v is None else format(v, spec)
-    html = env.get_template("_elastic_section.html.j2").render(elastic=section, elastic_figures=figures)
+    html = environment().get_template("_elastic_section.html.j2").render(elastic=section, elastic_figures=figures)
     assert 'id="elastic"' in html and 'id="fig-elastic-loop"' in html and 'id="fig-elastic-histograms"' in html
     assert f"{section.nominal.lost_motion_arcmin:.3f}" in html
     assert "every spec at once" in html and "cycloid pins" in html

@@ -1,5 +1,6 @@
 """Result files: atomic, never half-written, never a special file, '-' is standard output."""
 
+import json
 import os
 import stat
 
@@ -59,5 +60,6 @@ def test_dash_is_standard_output(capsys, tmp_path):
 def test_renderers_are_plain():
     import math
 
-    assert render_json({"a": math.nan, "b": (1, 2)}) == '{\n  "a": null,\n  "b": [\n    1,\n    2\n  ]\n}\n'
+    assert render_json({"a": math.nan, "b": (1, 2)}, stamp=False) == '{\n  "a": null,\n  "b": [\n    1,\n    2\n  ]\n}\n'
+    assert list(json.loads(render_json({"a": 1}))) == ["schema_version", "rvbacklash_version", "a"]  # every output
     assert render_csv([{"a": 1, "b": 2}, {"a": 3, "c": 4}]) == "a,b,c\n1,2,\n3,,4\n"

@@ -1,6 +1,7 @@
 """The HTML report: end to end, in a real headless browser, and its bad inputs."""
 
 import json
+import re
 import os
 import shutil
 import subprocess
@@ -31,7 +32,6 @@ def test_report_is_self_contained(report):
     html, data = report
     text = html.read_text()
     # works offline: nothing is fetched from anywhere (only XML namespaces and in-page url(#id))
-    import re
     assert not re.search(r"https?://(?!www\.w3\.org/)", text)
     assert not re.search(r"url\((?!#)", text)
     for needle in ("<script src", "<link ", "@import", "<img src=\"http"):
@@ -153,3 +153,100 @@ def test_report_of_the_elastic_model_has_the_test_bench_section():
     keys = data.key_numbers()
     assert keys["elastic.nominal.lost_motion_arcmin"] == data.elastic.nominal.lost_motion_arcmin > 0
     assert data.simulation.joint_yield is not None
+
+
+# --- the report follows the chosen model (issue 18) ---------------------------------------------
+
+RAW_UNITS = re.compile(r"nm_per_arcmin|\[um\]|arcmin_per_um|\bNone\b")
+
+
+@pytest.fixture(scope="module")
+def model_reports(report, tmp_path_factory):
+    """The linear report above, and a contact and an elastic one (small runs), as HTML and JSON."""
+    import rvbacklash as rb
+    from rvbacklash.report.files import render_json
+
+    d = tmp_path_factory.mktemp("models")
+    pages = {"linear": report}
+    for model, kwargs in (("contact", {"spec_arcmin": 1.0}),
+                          ("elastic", {"specs": {"lost_motion": 1.0, "rigidity": 1000.0}})):
+        data = rb.make_report("rv80e", samples=5000, seed=1, model=model, **kwargs)
+        html = d / f"{model}.html"
+        html.write_text(rb.render_html(data))
+        pages[model] = (html, json.loads(render_json(data.to_dict())))
+    return pages
+
+
+def test_each_model_leads_with_its_own_figures(model_reports):
+    for model, (html, data) in model_reports.items():
+        text = html.read_text()
+        cards = text[text.index('id="headline"'):text.index('id="headline-model"')]
+        assert f'data-model="{model}"' in cards
+        assert not RAW_UNITS.search(re.sub(r"<[^>]+>", " ", text)), (model, RAW_UNITS.search(text))
+        keys = set(re.findall(r'data-key="([^"]+)"', cards))
+        if model == "linear":
+            assert "total.mean_arcmin" in keys and ">Backlash of" in text
+        else:  # no figure of the linear model on the first screen: the cards are the chosen model's
+            assert not any(k.startswith("total.") for k in keys), keys
+            assert "Why: the linear stack-up" in text and "Stack-up — linear model" in text
+        if model == "contact":
+            assert {"simulation.backlash.mean", "simulation.backlash.yield", "simulation.preload_fraction"} <= keys
+            assert "linear model (Eq. (2)): exact distribution" not in cards
+        if model == "elastic":
+            assert {"simulation.lost_motion.mean", "simulation.backlash.mean", "simulation.rigidity.mean",
+                    "simulation.lost_motion.yield", "simulation.rigidity.yield", "simulation.joint_yield"} <= keys
+            assert ">Test-bench figures of" in text and 'id="fig-histogram"' not in text  # no linear overlay
+            assert "yield, backlash" not in cards  # no spec on backlash: no yield card
+            assert 'id="where-lost-motion"' in text and "Elastic model</strong>" in text
+        assert data["metadata"]["model"] == model and data["schema_version"]
+        assert ('id="fig-convergence"' in text) == (sum(c["q99865_arcmin"] is not None
+                                                       for c in data["simulation"]["convergence"]) >= 3)
+
+
+def test_a_report_without_a_spec_has_no_yield_card():
+    import rvbacklash as rb
+
+    data = rb.make_report("rv80e", samples=3000, seed=1, model="elastic")
+    html = rb.render_html(data)
+    cards = html[html.index('id="headline"'):html.index('id="headline-model"')]
+    assert "yield" not in cards and "None" not in cards and "no spec given" in html
+
+
+def test_every_models_report_in_a_real_browser(model_reports):
+    """No console error; no SVG text outside its figure (a cut legend or label); every marked
+    number equals the JSON's key number; no 'None' and no field-name unit on the page."""
+    if os.environ.get("RVBACKLASH_SKIP_BROWSER") == "1":
+        pytest.skip("RVBACKLASH_SKIP_BROWSER=1")
+    from playwright.sync_api import sync_playwright
+
+    outside = """() => [...document.querySelectorAll('figure svg')].flatMap(svg => {
+        const f = svg.getBoundingClientRect();
+        return [...svg.querySelectorAll('g[id^="text_"], g[id^="legend_"]')].filter(g => {
+            const b = g.getBoundingClientRect();
+            return b.width > 0 && (b.left < f.left - 1 || b.right > f.right + 1 || b.top < f.top - 1 ||
+                                   b.bottom > f.bottom + 1);
+        }).map(g => svg.closest('figure').id + ':' + g.id);
+    })"""
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        for model, (html, data) in model_reports.items():
+            page = browser.new_page(viewport={"width": 1200, "height": 1500})
+            problems = []
+            page.on("console", lambda m: problems.append(m.text) if m.type in ("error", "warning") else None)
+            page.goto(html.resolve().as_uri())
+            page.wait_for_load_state("load")
+            assert page.evaluate(outside) == [], model
+            text = page.evaluate("document.body.innerText")
+            assert not RAW_UNITS.search(text), (model, RAW_UNITS.search(text))
+            marked = page.eval_on_selector_all(
+                "#headline [data-key]", "els => els.map(e => [e.dataset.key, e.dataset.value, e.textContent, "
+                                        "e.dataset.scale || '1'])")
+            assert marked, model
+            for key, value, shown, scale in marked:
+                assert float(value) == data["key_numbers"][key], (model, key)
+                decimals = len(shown.partition(".")[2])
+                assert float(shown) == pytest.approx(data["key_numbers"][key] * float(scale),
+                                                     abs=0.5 * 10 ** -decimals + 1e-12), (model, key)
+            assert problems == [], model
+            page.close()
+        browser.close()

@@ -50,6 +50,7 @@ class ReportData(Result):
         }
         if s.yield_ is not None:
             out["simulation.yield"] = s.yield_.fraction
+        out.update(self.model_numbers())
         if self.allocation is not None:
             out["allocation.cost"] = self.allocation.cost
         if self.elastic is not None:
@@ -59,12 +60,46 @@ class ReportData(Result):
                         "elastic.nominal.torsional_rigidity_nm_per_arcmin": n.torsional_rigidity_nm_per_arcmin})
         return out
 
+    @property
+    def model(self) -> str:
+        return self.simulation.model
+
+    def headline_outputs(self) -> tuple[str, ...]:
+        """The outputs the first screen shows for the chosen model (linear: the stack-up's cards)."""
+        return {"contact": ("backlash",), "elastic": ("lost_motion", "backlash", "rigidity")}.get(self.model, ())
+
+    def specs(self) -> dict[str, float]:
+        """Every spec given, by output (the yields the report shows)."""
+        return {k: o.spec_limit for k, o in self.simulation.outputs.items() if o.spec_limit is not None}
+
+    def model_numbers(self) -> dict:
+        """The chosen model's headline figures by JSON path (``simulation.<quantity>.<statistic>``):
+        mean, the quantile on the spec's side (99.865 %, or 0.135 % for a lower limit such as the
+        rigidity), the yield of every output with a spec, the joint yield and the preloaded share."""
+        s, out = self.simulation, {}
+        for name in self.headline_outputs():
+            o = s.outputs.get(name)
+            if o is None:
+                continue
+            out[f"simulation.{name}.mean"] = o.mean
+            tail = 0.00135 if name == "rigidity" else 0.99865
+            out[f"simulation.{name}.q{tail * 1e5:05.0f}"] = o.quantiles.at(tail).value
+        if self.model != "linear":
+            for name, o in s.outputs.items():
+                if o.yield_ is not None:
+                    out[f"simulation.{name}.yield"] = o.yield_.fraction
+            if s.joint_yield is not None:
+                out["simulation.joint_yield"] = s.joint_yield.fraction
+            if s.preload_fraction is not None:
+                out["simulation.preload_fraction"] = s.preload_fraction
+        return out
+
     def metadata(self) -> dict:
         sim = self.simulation
         return {"rvbacklash_version": __version__, "design": self.problem.name, "input": self.problem.source,
                 "input_sha256": self.problem.source_sha256, "seed": sim.seed, "method": sim.method,
                 "samples": sim.samples, "samples_done": sim.samples_done, "model": sim.model,
-                "spec_arcmin": self.spec_arcmin, "partial": self.partial,
+                "spec_arcmin": self.spec_arcmin, "specs": self.specs(), "partial": self.partial,
                 "standards": standards_used(self.stackup), "created_utc": self.created_utc}
 
     def to_dict(self) -> dict:
@@ -106,8 +141,13 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
     if stackup.total.minus3sigma_arcmin < 0:
         frac = sim.output.negative_fraction
         share = f" ({frac * 100:.2f} % of the samples)" if frac is not None and sim.model == "linear" else ""
-        w.append(f"mean − 3σ = {stackup.total.minus3sigma_arcmin:.3f} arcmin < 0: the linear model predicts "
-                 f"interference (negative lost motion){share}; it cannot see that a gap stops at zero.")
+        if sim.model == "linear":
+            w.append(f"mean − 3σ = {stackup.total.minus3sigma_arcmin:.3f} arcmin < 0: the linear model predicts "
+                     f"interference (negative lost motion){share}; it cannot see that a gap stops at zero.")
+        else:
+            w.append(f"linear stack-up (the explanatory section): mean − 3σ = {stackup.total.minus3sigma_arcmin:.3f} "
+                     f"arcmin < 0, interference the linear model cannot place; the {sim.model} model's figures "
+                     f"above see a closed gap as contact (lost motion never below zero).")
     zero_mean_mods = [f for f in stackup.factors if f.key in ("equidistance_modification", "moving_distance_modification")
                       and f.zone_origin == "explicit" and f.zone_lower_um == -f.zone_upper_um and f.zone_upper_um > 0]
     if zero_mean_mods:
@@ -116,7 +156,11 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
     if any("assumption" in f.zone_origin for f in stackup.factors):
         w.append("some zones rest on documented assumptions (docs/standards.md), e.g. the cycloid stage "
                  "(no public JB/T 10419-2005): check them against supplier data.")
-    if sim.preload_fraction is not None and sim.preload_fraction > 0.01:
+    if sim.preload_fraction is not None and sim.preload_fraction > 0.01 and sim.model == "elastic":
+        w.append(f"elastic model: the cycloid stage is preloaded (rigid interference at some pin) in "
+                 f"{sim.preload_fraction * 100:.1f} % of the units; their pins carry load from zero torque, so "
+                 f"the cycloid stage adds no dead band to their lost motion (docs/elastic.md).")
+    elif sim.preload_fraction is not None and sim.preload_fraction > 0.01:
         w.append(f"contact model: the cycloid stage is preloaded (rigid interference at some pin) in "
                  f"{sim.preload_fraction * 100:.1f} % of the units; per-pin scatter is large against the "
                  f"designed clearance (docs/contact.md).")

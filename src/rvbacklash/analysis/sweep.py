@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
 
+from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.executor import Executor, check_scheduler, check_workers, cores, dask_available, executor
 from rvbacklash.analysis.simulation import MODELS, check_run_parameters, simulate
 from rvbacklash.atomic import atomic_write
@@ -298,6 +299,8 @@ class SweepStore:
 
     def _open(self, force: bool) -> None:
         self.check_out(self.root)
+        # a directory this store creates (or finds empty) is removed again if the sweep never finishes a point
+        self.created = not self.root.exists() or not any(self.root.iterdir())
         state_path = self.root / STATE_FILE
         state = None
         if state_path.is_file():
@@ -354,6 +357,15 @@ class SweepStore:
             self._lock_file.close()  # releases the lock
             self._lock_file = None
 
+    def discard_if_unused(self) -> None:
+        """Remove the directory again when this store created it and no point finished (e.g. the
+        scheduler could not be reached): a sweep that never started leaves nothing behind."""
+        if not self.created or self.rows or any(self.points_dir.glob("*.json")):
+            return
+        self.close()
+        with contextlib.suppress(OSError):
+            shutil.rmtree(self.root)
+
     def _clear(self) -> None:
         for name in OWNED:
             p = self.root / name
@@ -364,7 +376,7 @@ class SweepStore:
 
     def write_state(self, status: str, **extra: Any) -> None:
         p = self.plan
-        state = {"name": p.spec.name, "fingerprint": p.fingerprint, "status": status, "points_total": len(p),
+        state = {"schema_version": SCHEMA_VERSION, "name": p.spec.name, "fingerprint": p.fingerprint, "status": status, "points_total": len(p),
                  "points_done": len(self.rows), "parameters": list(p.parameters), "labels": list(p.labels),
                  "outputs": [o.__dict__ for o in p.outputs], "limits": p.limits, "design": p.base_name,
                  "design_source": p.base_origin, "sweep_source": p.origin,
@@ -594,6 +606,7 @@ def run_sweep(plan: SweepPlan, *, out: str | Path | None = None, scheduler: str 
         return _run(plan, store, scheduler, workers, progress, stop, t0, out)
     except BaseException:  # a second Ctrl-C, or a failed point: what finished stays on disk, in the files too
         if store is not None:
+            store.discard_if_unused()
             with contextlib.suppress(Exception):
                 store.flush()
                 store.write_state("partial", interrupted=True)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from enum import Enum
 from pathlib import Path
 from typing import Optional
 
@@ -225,6 +226,12 @@ def report(
                                                             "--yield, their Pareto front and the Sobol indices."),
     yield_target: Optional[float] = typer.Option(None, "--yield", help="Target yield of --allocate: the share of "
                                                                        "units that must meet the spec, 0.5 < P < 1."),
+    allocate_model: Optional[str] = typer.Option(None, "--allocate-model", help="Model of --allocate: linear (exact, "
+                                                 "seconds; the rigid stack-up, conservative), contact or elastic "
+                                                 "(Monte-Carlo per candidate, minutes to hours); default: --model."),
+    allocate_samples: str = typer.Option("65536", "--allocate-samples", help="Monte-Carlo samples per candidate "
+                                         "of --allocate with the contact or elastic model (e.g. 2000 for a quick "
+                                         "look, yields within about +-1 %)."),
     sweep: Optional[Path] = typer.Option(None, "--sweep", help="Add a finished sweep's results (the --out DIR of "
                                                                "`rvbacklash sweep`).", metavar="DIR"),
     workers: int = WORKERS_OPTION,
@@ -260,7 +267,8 @@ def report(
                                spec_arcmin=spec_arcmin, specs=specs or None, scenarios=chosen, paper=paper, model=model,
                                workers=threads, sensitivity=sensitivity, allocate=allocate, yield_target=yield_target,
                                spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
-                               spec_preload_um=spec_preload_um, sweep_dir=sweep,
+                               spec_preload_um=spec_preload_um, allocate_model=allocate_model,
+                               allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
                                progress=progress)
     summary = {"report": str(output.resolve()), **data.metadata(), "key_numbers": data.key_numbers()}
     rows = data.rows()
@@ -395,14 +403,32 @@ def tolerance_iso286(
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv([row])}, table, data, [row])
 
 
+class SchemaOutput(str, Enum):
+    simulate = "simulate"
+    analyze = "analyze"
+    hysteresis = "hysteresis"
+    allocate = "allocate"
+    sensitivity = "sensitivity"
+    sweep = "sweep"
+
+
 @app.command()
 @command
-def schema() -> None:
-    """Print the JSON schema of the design file."""
-    from rvbacklash.design.schema import Design
+def schema(output: Optional[SchemaOutput] = typer.Option(
+        None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
+                               "hysteresis, allocate, sensitivity, sweep); its schema_version is in CHANGELOG.md.")
+           ) -> None:
+    """Print the JSON schema of the design file, or of a command's JSON output (--output)."""
     from rvbacklash.report.files import render_json
 
-    sys.stdout.write(render_json(Design.model_json_schema()))
+    if output is None:
+        from rvbacklash.design.schema import Design
+
+        sys.stdout.write(render_json(Design.model_json_schema(), stamp=False))
+        return
+    from rvbacklash.report.schemas import output_schema
+
+    sys.stdout.write(render_json(output_schema(output.value), stamp=False))
 
 
 @app.command()

@@ -175,9 +175,22 @@ def units_from_toml(text: str, design: Design, origin: str = "<string>") -> list
     except ValidationError as e:
         raise validation_to_input_error(e, UnitFile if "unit" in data else MeasuredUnit) from None
     for k, u in enumerate(units):
-        _check_lengths(u, design, f"unit[{k}]." if "unit" in data else "")
-        _check_kinematics(u.kinematics, design, f"unit[{k}]." if "unit" in data else "")
+        where = f"unit[{k}]." if "unit" in data else ""
+        _check_measures_something(u, where or origin)
+        _check_lengths(u, design, where)
+        _check_kinematics(u.kinematics, design, where)
     return units
+
+
+def _check_measures_something(u: MeasuredUnit, where: str) -> None:
+    """A unit without a single measured array is not a perfect unit: it is an empty or wrong file
+    (e.g. an export that wrote nothing), and reading it as zeros would give a plausible answer."""
+    if u.discs or u.kinematics is not None or any(getattr(u.pins, name) is not None
+                                                  for name in MeasuredPins.model_fields):
+        return
+    raise InputError(where.rstrip("."), "no measured values",
+                     "allowed: at least one measured array ([pins] radius_um = [...], ... or [[discs]]); an empty "
+                     "unit is not read as a perfect one")
 
 
 def load_units(path: str | Path, design: Design) -> list[MeasuredUnit]:

@@ -22,8 +22,8 @@ def loop_figure(result, others: Sequence = (), title: str = ""):
     x = result.measuring_torque_fraction * tr
     for k, r in enumerate((result, *others)):
         color, ls, lw = LOOP_STYLES[k % len(LOOP_STYLES)]
-        label = (f"{r.unit}: lost motion {r.lost_motion_arcmin:.3f}′, backlash {r.backlash_arcmin:.3f}′, "
-                 f"rigidity {r.torsional_rigidity_nm_per_arcmin:.0f} N·m/′")
+        label = (f"{r.unit}: lost motion {r.lost_motion_arcmin:.3f} arcmin, backlash {r.backlash_arcmin:.3f} arcmin, "
+                 f"rigidity {r.torsional_rigidity_nm_per_arcmin:.0f} N·m/arcmin")
         for i, b in enumerate(r.loop):
             for a in (ax, zx):
                 a.plot(b.angle_arcmin, b.torque_nm, color=color, ls=ls, lw=lw, label=label if i == 0 and a is ax else None)
@@ -46,7 +46,9 @@ def loop_figure(result, others: Sequence = (), title: str = ""):
         span = max(abs(min(near)), abs(max(near)), 1e-3)
         zx.set_xlim(-1.15 * span, 1.15 * span)
     zx.set_title(f"near zero: ±{result.measuring_torque_fraction * 100:g} % T_R dotted", fontsize=10)
-    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.8, -0.14), ncol=1, frameon=False)
+    # below both axes, centred on the figure: never over the loops, never past the figure's edge
+    fig.legend(*ax.get_legend_handles_labels(), fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=1,
+               frameon=False)
     return fig
 
 
@@ -84,7 +86,7 @@ def elastic_histograms_figure(sim, specs: Mapping[str, float] | None = None):
         ax.set_xlabel(label)
         ax.set_ylabel("density")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7.5)
+        ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False)  # below: off the bars
     fig.suptitle(f"{sim.design_name}: production run, elastic model (quantiles 0.135 % / 99.865 % dotted)",
                  fontsize=10)
     fig.tight_layout()
@@ -106,4 +108,7 @@ def elastic_figures(section) -> dict[str, str | None]:
                                             f"{', '.join(section.quantile_units)} of lost motion")),
         "elastic_histograms": inline_svg(elastic_histograms_svg(section.simulation, section.specs))
         if section.simulation is not None else None,
+        # "where the compliance is" (the elastic model's per-element compliance shares, issue 16): its bar
+        # chart goes here; the section's template shows it when this is not None
+        "compliance_share": None,
     }

@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
+from rvbacklash._version import SCHEMA_VERSION, __version__
 from rvbacklash.atomic import atomic_write  # noqa: F401 - part of this module's interface
 from rvbacklash.errors import InputError
 from rvbacklash.results import plain
@@ -24,8 +25,19 @@ from rvbacklash.results import plain
 STDOUT = "-"
 
 
-def render_json(data: Any) -> str:
-    return json.dumps(plain(data), indent=2, allow_nan=False) + "\n"
+def stamped(data: Any) -> Any:
+    """A JSON output's top level with the versions first: ``schema_version`` (of the output
+    formats, CHANGELOG.md) and ``rvbacklash_version`` (the program that wrote it)."""
+    if not isinstance(data, Mapping):
+        return data
+    return {"schema_version": SCHEMA_VERSION, "rvbacklash_version": __version__,
+            **{k: v for k, v in data.items() if k not in ("schema_version", "rvbacklash_version")}}
+
+
+def render_json(data: Any, stamp: bool = True) -> str:
+    """An output as JSON, stamped with its versions (``stamp=False``: as it is, e.g. a schema)."""
+    data = plain(data)
+    return json.dumps(stamped(data) if stamp else data, indent=2, allow_nan=False) + "\n"
 
 
 def render_csv(rows: Iterable[Mapping[str, Any]]) -> str:

@@ -3,26 +3,24 @@ Jinja2 from the results it is given (``rvbacklash.api.make_report`` gathers them
 
 from __future__ import annotations
 
-import jinja2
-
 from rvbacklash.analysis.report_data import ReportData
-from rvbacklash.report import plots
+from rvbacklash.report import headline, plots
 from rvbacklash.report.elastic_plots import elastic_figures
 from rvbacklash.report.sweep import section_context as sweep_section_context
 from rvbacklash.report.what_to_tighten import what_to_tighten_context
+from rvbacklash.report.templating import environment
 
 
 def render_html(data: ReportData) -> str:
-    env = jinja2.Environment(loader=jinja2.PackageLoader("rvbacklash.report", "templates"),
-                             autoescape=jinja2.select_autoescape(["html", "j2"]), undefined=jinja2.StrictUndefined)
-    env.filters["fmt"] = lambda v, spec=".4f": "–" if v is None else format(v, spec)
+    env = environment()
     sim = data.simulation
     comparison = data.comparison
     figures = {
         "pareto": plots.inline_svg(plots.pareto_svg(data.stackup)),
         "tornado": plots.inline_svg(plots.tornado_svg(data.stackup)),
-        "histogram": plots.inline_svg(plots.histogram_svg(sim, data.spec_arcmin)),
-        "convergence": plots.inline_svg(plots.convergence_svg(sim)) if sim.convergence else None,
+        # the elastic model's distributions are in its own section (three outputs, their specs)
+        "histogram": plots.inline_svg(plots.histogram_svg(sim, data.spec_arcmin)) if sim.model != "elastic" else None,
+        "convergence": plots.inline_svg(plots.convergence_svg(sim)) if plots.shows_convergence(sim) else None,
         "scenarios": plots.inline_svg(plots.scenario_overlay_svg(comparison.scenarios, data.spec_arcmin))
         if comparison is not None and comparison.scenarios else None,
         "contact": plots.inline_svg(plots.contact_svg(data.contact)) if data.contact is not None else None,
@@ -33,6 +31,9 @@ def render_html(data: ReportData) -> str:
         extra.update(elastic=data.elastic, elastic_figures=elastic_figures(data.elastic))
     if data.sweep is not None:
         extra.update(sweep_section_context(data.sweep))
+    head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),
+            "model_name": headline.model_name(data.model)}
     return env.get_template("report.html.j2").render(
         d=data, design=data.problem.design, r=data.stackup, sim=sim, out=sim.output, meta=data.metadata(),
-        keys=data.key_numbers(), figures=figures, comparison=comparison, contact=data.contact, **extra)
+        keys=data.key_numbers(), figures=figures, comparison=comparison, contact=data.contact, head=head,
+        problem_contact_error_model=data.problem.design.contact.error_model, **extra)

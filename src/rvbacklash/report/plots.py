@@ -13,6 +13,8 @@ matplotlib.rcParams["font.size"] = 10
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from rvbacklash.units import display_unit  # noqa: E402
+
 BLUE, RED, GREEN, GREY = "#3b6ea5", "#c0392b", "#1f7a3a", "#555555"
 
 
@@ -114,24 +116,36 @@ def tornado_figure(stackup, top: int = 12):
 
 
 def histogram_svg(sim, spec_arcmin: float | None) -> str:
-    """Histogram (density) of the primary output with the exact distribution of the linear model."""
+    """Histogram (density) of the primary output with the exact distribution of the linear model;
+    the legend names each curve's model and sits below the axes (it never covers the data)."""
     o = sim.output
     h = o.histogram
     edges = np.asarray(h.edges)
     fig, ax = plt.subplots(figsize=(8.5, 4.0))
-    label = f"Monte-Carlo, {o.samples:,} units" if sim.method != "exact" else "exact"
+    label = f"{sim.model} model: Monte-Carlo, {o.samples:,} units" if sim.method != "exact" else \
+        f"{sim.model} model: exact distribution"
     ax.stairs(np.asarray(h.density), edges, fill=True, alpha=0.5, color=BLUE, label=label)
-    if sim.exact_curve is not None:
+    if sim.exact_curve is not None and sim.method != "exact":
         ax.plot(sim.exact_curve.x_arcmin, sim.exact_curve.pdf_per_arcmin, color="k", lw=1.2,
-                label="exact" if sim.method == "exact" else "exact distribution of the linear model")
+                label="linear model (Eq. (2)): exact distribution" + (
+                    " (rigid play summed at one pin, for comparison)" if sim.model != "linear" else ""))
     if spec_arcmin is not None:
         ax.axvline(spec_arcmin, color=RED, ls="--", lw=1.2, label=f"spec {spec_arcmin:g} arcmin")
     ax.axvline(0, color="grey", lw=0.8)
-    ax.set_xlabel(f"{o.description} [{o.unit}]")
-    ax.set_ylabel(f"density [1/{o.unit}]")
-    ax.legend(fontsize=9)
+    unit = display_unit(o.unit)
+    ax.set_xlabel(f"{o.description} [{unit}]")
+    ax.set_ylabel(f"density [1/{unit}]")
+    ax.legend(fontsize=9, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1, frameon=False)
     ax.grid(alpha=0.3)
     return _svg(fig)
+
+
+CONVERGENCE_MIN_POINTS = 3  # fewer points show no trend (one point per wave of blocks: 1, 2, 4, ...)
+
+
+def shows_convergence(sim) -> bool:
+    """Whether the run has enough convergence points (with a quantile) to draw."""
+    return sum(c.q99865_arcmin is not None for c in sim.convergence) >= CONVERGENCE_MIN_POINTS
 
 
 def convergence_svg(sim) -> str:
@@ -215,13 +229,13 @@ def preload_svg(sim) -> str:
                       color=colour)
             q = o.quantiles.at(0.99865).value
             if q is not None:
-                ax.axvline(q, color="k", ls=":", lw=1, label=f"99.865 %: {q:.3g} {o.unit}")
+                ax.axvline(q, color="k", ls=":", lw=1, label=f"99.865 %: {q:.3g} {display_unit(o.unit)}")
                 ax.legend(fontsize=8)
         else:
             ax.text(0.5, 0.5, "none", ha="center", va="center", transform=ax.transAxes)
         ax.set_title(title, fontsize=10)
-        ax.set_xlabel(f"{'output backlash' if o.unit == 'arcmin' else 'preload'} [{o.unit}]")
-        ax.set_ylabel(f"density [1/{o.unit}]")
+        ax.set_xlabel(f"{'output backlash' if o.unit == 'arcmin' else 'preload'} [{display_unit(o.unit)}]")
+        ax.set_ylabel(f"density [1/{display_unit(o.unit)}]")
         ax.grid(alpha=0.3)
     fig.tight_layout()
     return _svg(fig)

@@ -18,6 +18,7 @@ from typing import Any
 from rvbacklash.analysis.sweep import SweepResult
 from rvbacklash.errors import InputError
 from rvbacklash.report import plots
+from rvbacklash.report.templating import environment
 
 MAX_TABLE_ROWS = 2000  # rows shown in the HTML table (the CSV and Parquet files hold all)
 UNITLESS = ("_yield", "_yield_ci95_low", "_yield_ci95_high", "_cp", "_cpk", "_ppm_out", "_negative_fraction",
@@ -307,8 +308,4 @@ def default_figures(result: SweepResult) -> list[tuple[str, str]]:
 
 def render_sweep_html(result: SweepResult, figures: list[tuple[str, str]] | None = None) -> str:
     """The sweep as one self-contained HTML page (inline CSS and SVG, no network)."""
-    import jinja2
-
-    env = jinja2.Environment(loader=jinja2.PackageLoader("rvbacklash.report", "templates"),
-                             autoescape=jinja2.select_autoescape(["html", "j2"]), undefined=jinja2.StrictUndefined)
-    return env.get_template("sweep.html.j2").render(**section_context(result, figures))
+    return environment().get_template("sweep.html.j2").render(**section_context(result, figures))

@@ -9,12 +9,12 @@ from rich.table import Table
 from typing import TYPE_CHECKING
 
 from rvbacklash.analysis.stackup import StackupResult
+from rvbacklash.units import display_unit
 
 if TYPE_CHECKING:  # the simulation pulls in the compiled kernels; only its type is needed here
     from rvbacklash.analysis.simulation import SimulationResult
 
 
-UNIT_TEXT = {"nm_per_arcmin": "N m/arcmin"}  # unit names as the field names spell them -> as people read them
 
 
 def _g(x: float, digits: int = 4) -> str:
@@ -88,7 +88,7 @@ def print_simulation(r: "SimulationResult", console: Console) -> None:
         head += f"  [bold red]PARTIAL: interrupted after {r.samples_done:,} of {r.samples:,} samples[/]"
     console.print(head)
     for o in r.outputs.values():
-        unit = UNIT_TEXT.get(o.unit, o.unit)
+        unit = display_unit(o.unit)
         t = Table(title=escape(f"{o.description} [{unit}]"), title_justify="left")
         for c in ["statistic", "value", "95 % interval"]:
             t.add_column(c, justify="left" if c == "statistic" else "right")

@@ -5,11 +5,10 @@ tighten" section with ``what_to_tighten_context(...)`` merged into its own varia
 
 from __future__ import annotations
 
-import jinja2
-
 from rvbacklash.report.allocation_plots import front_svg
 from rvbacklash.report.plots import inline_svg
 from rvbacklash.report.sensitivity_plots import sobol_svg
+from rvbacklash.report.templating import environment
 
 PARTIAL = "_what_to_tighten.html.j2"
 
@@ -26,7 +25,5 @@ def what_to_tighten_context(sensitivity=None, allocation=None) -> dict:
 
 def render_what_to_tighten(sensitivity=None, allocation=None) -> str:
     """The partial rendered on its own (an HTML fragment), with the report's environment settings."""
-    env = jinja2.Environment(loader=jinja2.PackageLoader("rvbacklash.report", "templates"),
-                             autoescape=jinja2.select_autoescape(["html", "j2"]), undefined=jinja2.StrictUndefined)
-    env.filters["fmt"] = lambda v, spec=".4f": "–" if v is None else format(v, spec)
+    env = environment()
     return env.get_template(PARTIAL).render(**what_to_tighten_context(sensitivity, allocation))

@@ -1,0 +1,77 @@
+"""Every JSON output carries schema_version and rvbacklash_version and validates against the
+schema `rvbacklash schema --output COMMAND` prints, generated from the typed results (issue 18).
+The outputs are real: each command's result rendered as the CLI renders it."""
+
+from __future__ import annotations
+
+import json
+
+import jsonschema
+import pytest
+
+import rvbacklash as rb
+from helpers import run_cli
+from rvbacklash.design.sweep_spec import Parameter, SweepSpec
+from rvbacklash._version import SCHEMA_VERSION, __version__
+from rvbacklash.report.files import render_json
+from rvbacklash.report.schemas import OUTPUTS, output_schema
+
+
+def _outputs():
+    p = rb.prepare("rv80e")
+    sweep = rb.sweep(SweepSpec(design="rv80e", model="linear", samples=1000, seed=1, name="t", specs={"backlash": 2.0},
+                               parameters=[Parameter(path="second_stage.equidistance_modification_um",
+                                                     values=[0.0, 4.0])]), scheduler="inline")
+    return {
+        "analyze": rb.analyze(p),
+        "simulate": rb.simulate(p, samples=3000, seed=1, model="elastic",
+                                specs={"lost_motion": 1.5, "rigidity": 300.0}),
+        "hysteresis": rb.hysteresis(p, points=5),
+        "allocate": rb.allocate(p, spec_arcmin=3.0, yield_target=0.99, pareto=False),
+        "sensitivity": rb.sensitivity(p, samples=64, resamples=100),
+        "sweep": sweep,
+    }
+
+
+@pytest.fixture(scope="module")
+def outputs():
+    return _outputs()
+
+
+def test_every_listed_output_has_a_schema():
+    assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep"}
+
+
+@pytest.mark.parametrize("name", sorted(OUTPUTS))
+def test_a_real_output_validates_against_its_schema(outputs, name):
+    schema = output_schema(name)
+    jsonschema.Draft202012Validator.check_schema(schema)
+    data = json.loads(render_json(outputs[name].to_dict()))
+    assert data["schema_version"] == SCHEMA_VERSION and data["rvbacklash_version"] == __version__
+    assert list(data)[:2] == ["schema_version", "rvbacklash_version"]
+    jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
+
+
+def test_the_schema_catches_a_moved_field(outputs):
+    """A test that cannot fail is a defect: the old simulate layout (figures at the top level) is refused."""
+    data = json.loads(render_json(outputs["simulate"].to_dict()))
+    data["mean_arcmin"] = data["outputs"].pop("lost_motion")["mean"]
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, output_schema("simulate"), cls=jsonschema.Draft202012Validator)
+    data = json.loads(render_json(outputs["simulate"].to_dict()))
+    data["schema_version"] = "1.0"
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, output_schema("simulate"), cls=jsonschema.Draft202012Validator)
+
+
+def test_the_cli_prints_the_schema_and_its_json_validates(tmp_path):
+    out = tmp_path / "s.json"
+    p = run_cli("simulate", "rv80e", "-n", "2000", "--spec-arcmin", "3", "--json", out, "-q")
+    assert p.returncode == 0, p.stderr
+    s = run_cli("schema", "--output", "simulate")
+    assert s.returncode == 0, s.stderr
+    jsonschema.validate(json.loads(out.read_text()), json.loads(s.stdout), cls=jsonschema.Draft202012Validator)
+    design = json.loads(run_cli("schema").stdout)  # backward compatible: the design file's schema by default
+    assert "schema_version" not in design and "first_stage" in design["properties"]
+    bad = run_cli("schema", "--output", "xml")
+    assert bad.returncode == 2 and bad.stderr.startswith("error: --output = 'xml'")

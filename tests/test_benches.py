@@ -1,0 +1,27 @@
+"""Every benchmark in bench/ runs at a tiny size (issue 18: bench_elastic.py crashed unnoticed
+when UnitBatch gained preload_um, because nothing ran it). Only that it runs and prints its
+figures is checked, never a time."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "bench"
+BENCHES = sorted(BENCH.glob("bench_*.py"))
+
+
+def test_the_benches_are_found():
+    assert len(BENCHES) >= 6
+
+
+@pytest.mark.parametrize("script", BENCHES, ids=lambda p: p.stem)
+def test_bench_runs_at_a_tiny_size_and_prints_figures(script):
+    p = subprocess.run([sys.executable, str(script), "--tiny"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr[-3000:]
+    figures = [line for line in p.stdout.splitlines() if re.search(r"\d", line)]
+    assert len(figures) >= 2, p.stdout
