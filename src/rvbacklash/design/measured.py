@@ -185,8 +185,8 @@ def units_from_toml(text: str, design: Design, origin: str = "<string>") -> list
 def _check_measures_something(u: MeasuredUnit, where: str) -> None:
     """A unit without a single measured array is not a perfect unit: it is an empty or wrong file
     (e.g. an export that wrote nothing), and reading it as zeros would give a plausible answer."""
-    if u.discs or u.kinematics is not None or any(getattr(u.pins, name) is not None
-                                                  for name in MeasuredPins.model_fields):
+    if u.discs or any(getattr(u.pins, name) is not None for name in MeasuredPins.model_fields) or \
+            any(getattr(u.kinematics, name) is not None for name in MeasuredKinematics.model_fields):
         return
     raise InputError(where.rstrip("."), "no measured values",
                      "allowed: at least one measured array ([pins] radius_um = [...], ... or [[discs]]); an empty "
