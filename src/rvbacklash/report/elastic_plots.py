@@ -98,6 +98,53 @@ def elastic_histograms_svg(sim, specs: Mapping[str, float] | None = None) -> str
     return _svg(elastic_histograms_figure(sim, specs))
 
 
+def element_label(name: str) -> str:
+    return name.replace("_", " ")
+
+
+def compliance_figure(result):
+    """Two bar charts side by side for one unit (a HysteresisResult): where the lost motion comes
+    from (each element's dead band and wind-up at +-x T_R, arcmin) and where the compliance is
+    (each element's share of the chain's compliance over the rigidity interval, with its stiffness
+    referred to the output). Elements the design does not model (rigid, no play) are left out."""
+    names = [k for k in result.lost_motion_share_arcmin
+             if result.lost_motion_share_arcmin[k] != 0.0 or result.compliance_share[k] != 0.0
+             or result.dead_band_arcmin[k] != 0.0]
+    y = np.arange(len(names))[::-1]
+    fig, (lm, cs) = plt.subplots(1, 2, figsize=(10.0, 0.42 * len(names) + 1.6), sharey=True)
+    dead = np.array([result.dead_band_arcmin[k] for k in names])
+    total = np.array([result.lost_motion_share_arcmin[k] for k in names])
+    lm.barh(y, dead, color=GREY, label="dead band (clearance)")
+    lm.barh(y, total - dead, left=dead, color=BLUE, label="wind-up (elastic, friction)")
+    lm.set_yticks(y, [element_label(k) for k in names], fontsize=8.5)
+    lm.set_xlabel("share of the lost motion [arcmin]")
+    lm.set_title(f"lost motion {result.lost_motion_arcmin:.3f} arcmin at ±"
+                 f"{result.measuring_torque_fraction * 100:g} % T_R", fontsize=9.5)
+    lm.grid(axis="x", alpha=0.3)
+    lm.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.18 - 0.5 / len(names)), ncol=2,
+              frameon=False)
+    share = np.array([result.compliance_share[k] for k in names]) * 100
+    cs.barh(y, share, color=GREEN)
+    for yy, v, k in zip(y, share, names):
+        stiff = result.element_stiffness_nm_per_arcmin[k]
+        if stiff is not None:
+            k = f"{stiff:.0f}" if stiff < 1e5 else f"{stiff:.1e}"
+            cs.text(v, yy, f" {v:.1f} % ({k} N·m/arcmin)", va="center", fontsize=7.5)
+    cs.set_xlim(0, max(share.max(), 1e-9) * 1.9)
+    cs.set_xlabel("share of the compliance [%]")
+    lo, hi = (v * 100 for v in result.rigidity_interval_fraction)
+    cs.set_title(f"rigidity {result.torsional_rigidity_nm_per_arcmin:.0f} N·m/arcmin ({lo:g}–{hi:g} % T_R)",
+                 fontsize=9.5)
+    cs.grid(axis="x", alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def compliance_svg(result) -> str:
+    """SVG of ``compliance_figure``."""
+    return _svg(compliance_figure(result))
+
+
 def elastic_figures(section) -> dict[str, str | None]:
     """Inline SVG elements for the report partial ``_elastic_section.html.j2`` from an
     ``ElasticSection``: the nominal loop with the quantile units' loops, and the histograms."""
@@ -108,7 +155,5 @@ def elastic_figures(section) -> dict[str, str | None]:
                                             f"{', '.join(section.quantile_units)} of lost motion")),
         "elastic_histograms": inline_svg(elastic_histograms_svg(section.simulation, section.specs))
         if section.simulation is not None else None,
-        # "where the compliance is" (the elastic model's per-element compliance shares, issue 16): its bar
-        # chart goes here; the section's template shows it when this is not None
-        "compliance_share": None,
+        "compliance_share": inline_svg(compliance_svg(section.nominal)),
     }
