@@ -34,7 +34,6 @@ depends on its own streams only.
 from __future__ import annotations
 
 import math
-import os
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass
@@ -43,6 +42,7 @@ from typing import Callable, Protocol, Sequence
 import numpy as np
 from numpy.random import PCG64, Generator, SeedSequence
 
+from rvbacklash.analysis.executor import cores
 from rvbacklash.analysis.sensitivity import rank_descending, variance_shares
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG, FACTOR_KEYS
@@ -280,8 +280,7 @@ class ThreadExecutor:
     thread in flight; the interface of ``InlineExecutor``. After ``stop`` is set, no task starts."""
 
     def __init__(self, workers: int | None = None):
-        self.workers = workers or max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                                      else os.cpu_count() or 1)
+        self.workers = workers or cores()
 
     def map_unordered(self, fn, tasks, stop=None):
         if self.workers == 1:
