@@ -6,7 +6,7 @@ PYTHON ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: example test screenshot clean
+.PHONY: example test bench screenshot clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,6 +25,11 @@ example: $(STAMP)
 test: $(STAMP)
 	tools/ensure-chromium
 	$(VENV)/bin/python -m pytest
+
+# Every performance target of issue 19 in one table (minutes; BENCH_ARGS=--no-commands leaves out
+# the sensitivity and allocate wall times).
+bench: $(STAMP)
+	$(VENV)/bin/python bench/bench_all.py $(BENCH_ARGS)
 
 # Refresh docs/report.png (the README's picture) from the example report.
 screenshot: example

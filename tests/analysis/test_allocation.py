@@ -211,6 +211,9 @@ def test_contact_allocation_is_reproducible_for_any_executor_order(contact_case)
     again = allocate(p, model="contact", spec_arcmin=spec, yield_target=0.9, samples=4096, seed=1,
                      executor=ReversedExecutor())
     assert again.grades == r.grades and again.yield_ == r.yield_ and again.verification == r.verification
+    side_by_side = allocate(p, model="contact", spec_arcmin=spec, yield_target=0.9, samples=4096, seed=1, workers=2)
+    assert side_by_side.grades == r.grades and side_by_side.yield_ == r.yield_  # candidates on 2 threads, 1 each
+    assert side_by_side.verification == r.verification and side_by_side.evaluations == r.evaluations
 
 
 def test_contact_allocation_rejects_a_rigidity_spec(contact_case):

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from helpers import example_with
-from rvbacklash.analysis.sensitivity_global import (BLOCK, STREAM_MODELS, LinearStreams, _run_task,
+from rvbacklash.analysis.sensitivity_global import (BLOCK, STREAM_MODELS, InlineExecutor, LinearStreams,
+                                                    ThreadExecutor, _run_task,
                                                     bootstrap_intervals, bootstrap_terms, global_sensitivity,
                                                     indices_from_means, sobol_point)
 from rvbacklash.analysis.stackup import analyze
@@ -113,9 +114,11 @@ class ReversedExecutor:
 
 
 def test_same_seed_same_numbers_for_any_order_and_block_count(rv80e_problem):
-    a = global_sensitivity(rv80e_problem, samples=2 * BLOCK, seed=7, resamples=200)
+    a = global_sensitivity(rv80e_problem, samples=2 * BLOCK, seed=7, resamples=200)  # one thread per core
     b = global_sensitivity(rv80e_problem, samples=2 * BLOCK, seed=7, resamples=200, executor=ReversedExecutor())
     assert a.rows() == b.rows()
+    for ex in (InlineExecutor(), ThreadExecutor(2), ThreadExecutor(3)):
+        assert global_sensitivity(rv80e_problem, samples=2 * BLOCK, seed=7, resamples=200, executor=ex).rows() == a.rows()
     c = global_sensitivity(rv80e_problem, samples=2 * BLOCK, seed=8, resamples=200)
     assert c.rows() != a.rows()
     # the first units of a run do not depend on the run's size (a block's numbers are its own)
@@ -225,3 +228,9 @@ def test_contact_model_one_random_group_carries_every_index(sun2014_toml):
     by = {row["input"]: row for row in r.rows()}
     assert by["equidistance_modification_error"]["total"] == pytest.approx(1.0, abs=0.05)
     assert by["crank_angle"]["total"] < 0.02
+
+
+def test_threads_give_the_inline_numbers_for_the_elastic_model(rv80e_problem):
+    a = global_sensitivity(rv80e_problem, model="elastic", samples=64, seed=3, resamples=100, executor=InlineExecutor())
+    b = global_sensitivity(rv80e_problem, model="elastic", samples=64, seed=3, resamples=100, executor=ThreadExecutor(2))
+    assert a.rows() == b.rows()

@@ -48,7 +48,7 @@ import numpy as np
 
 from rvbacklash.analysis.exact import ExactDistribution, exact_distribution
 from rvbacklash.analysis.grade_choices import GradeChoices, grade_choices, moments_arcmin
-from rvbacklash.analysis.sensitivity_global import InlineExecutor
+from rvbacklash.analysis.sensitivity_global import ThreadExecutor
 from rvbacklash.analysis.simulation import exact_result, simulate
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.design.schema import Design
@@ -579,8 +579,11 @@ class _Runs:
                  specs: dict | None, executor, workers: int | None, stop, progress):
         self.ch, self.model, self.samples, self.seed = choices, model, samples, seed
         self.spec, self.specs, self.stop, self.progress = spec_arcmin, specs, stop, progress
-        self.executor = executor if executor is not None else InlineExecutor()
-        self.threads = workers if executor is None else 1
+        # in this process: candidates side by side, one thread each, for a run of one block (the
+        # default 65536 samples) uses one core only; a lone candidate gets every thread. A
+        # candidate's numbers do not depend on its threads (the engine's contract).
+        self.executor = executor
+        self.threads = (workers or ThreadExecutor().workers) if executor is None else 1
         self.cache: dict[tuple[int, ...], Evaluation] = {}
         self.designs: dict[tuple[int, ...], Design] = {}
         self.runs = 0
@@ -593,11 +596,15 @@ class _Runs:
 
     def evaluate(self, candidates: Sequence[tuple[int, ...]], stream: int = SEARCH_STREAM) -> list[Evaluation | None]:
         todo = [c for c in dict.fromkeys(candidates) if stream != SEARCH_STREAM or c not in self.cache]
-        tasks = [(self.design(c), self.model, self.samples, self.seed, (stream,), self.spec, self.specs, self.threads)
+        executor, threads = self.executor, 1
+        if executor is None:
+            side_by_side = max(1, min(len(todo), self.threads))
+            executor, threads = ThreadExecutor(side_by_side), max(1, self.threads // side_by_side)
+        tasks = [(self.design(c), self.model, self.samples, self.seed, (stream,), self.spec, self.specs, threads)
                  for c in todo]
         out: dict[tuple[int, ...], Evaluation] = {}
         if tasks and not self.stop.is_set():
-            for i, ev in self.executor.map_unordered(evaluate_candidate, tasks, stop=self.stop):
+            for i, ev in executor.map_unordered(evaluate_candidate, tasks, stop=self.stop):
                 self.runs += 1
                 if ev.partial:
                     self.interrupted = True

@@ -233,8 +233,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
     with per-pin and per-tooth errors, docs/contact.md; "elastic"; "transmission": the contact
     model's units turned through one output revolution, TE peak-to-peak, docs/transmission-error.md)
-    or a callable (n, 21) [um] -> (n,)
-    [arcmin]. ``method``: default (numpy PCG64), box-muller (Eq. (8)), sobol (scrambled QMC),
+    or a callable (n, 21) [um] -> (n,) [arcmin]. ``method``: default (xoshiro256++ and the
+    ziggurat for the linear model, numpy PCG64 for the contact, elastic and transmission models),
+    box-muller (Eq. (8)), sobol (scrambled QMC),
     exact (the linear model's exact distribution). ``spec_arcmin`` is the upper limit of the
     primary output; ``specs`` gives limits of other outputs by name. Every method is seeded;
     seed 0 is a valid seed; ``stream`` (a tuple of integers >= 0) selects an independent stream of

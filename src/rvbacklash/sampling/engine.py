@@ -2,8 +2,11 @@
 
 Reproducibility contract
 - The sample stream is cut into blocks of BLOCK_SIZE samples; block b draws from its own
-  generator ``PCG64(SeedSequence(seed, spawn_key=(b,)))``, so the samples do not depend on the
-  chunk size (blocks per task) or the number of worker threads.
+  generator seeded by ``SeedSequence(seed, spawn_key=(*stream, b))``, so the samples do not depend
+  on the chunk size (blocks per task) or the number of worker threads. The linear source's
+  default method draws its normals inside compiled kernels (xoshiro256++ and the ziggurat,
+  ``sampling.fast_normals``); the other sources and methods draw from ``block_generator``
+  (numpy PCG64).
 - A block source turns block b into the values of its outputs, one row per output (``Output``);
   NaN marks a sample an output does not apply to. Each block is reduced to a small summary per
   output (shifted sums, min, max, counts) and a fixed-bin histogram. Summaries are merged strictly
@@ -32,7 +35,7 @@ import numpy as np
 from numpy.random import PCG64, Generator, SeedSequence
 
 from rvbacklash.interrupt import stop_requested
-from rvbacklash.sampling import kernels
+from rvbacklash.sampling import fast_normals, kernels
 from rvbacklash.sampling.inputs import InputTransform, linear_fast_plan
 
 BLOCK_SIZE = 1 << 16
@@ -92,7 +95,9 @@ class LinearSource:
         """(n, k) independent standard normals of block b."""
         k = self.transform.dimension
         if self.method == "default":
-            return block_generator(self.seed, b, self.stream).standard_normal((n, k))
+            out = np.empty((n, k))
+            fast_normals.standard_normals(fast_normals.block_state(self.seed, b, self.stream), out)
+            return out
         if self.method == "box-muller":
             out = np.empty((n, k))
             kernels.box_muller_normals(block_generator(self.seed, b, self.stream), n, k, out)
@@ -115,7 +120,8 @@ class LinearSource:
             weights, offset = self.fast
             if self.method == "default":
                 out = np.empty(n)
-                kernels.linear_normal_block(block_generator(self.seed, b, self.stream), n, weights, offset, out)
+                fast_normals.linear_normal_block(fast_normals.block_state(self.seed, b, self.stream), n, weights,
+                                                 offset, out)
                 return out
             if self.method == "box-muller":
                 out = np.empty(n)
@@ -134,8 +140,9 @@ class LinearSource:
 
 def linear_source(method: str, seed: int, transform: InputTransform, model,
                   sensitivities: np.ndarray | None, stream: tuple[int, ...] = ()) -> LinearSource:
-    """Linear models with normal inputs take the compiled fast path; everything else (other
-    marginals, non-linear models) maps normals through the copula and calls ``model``."""
+    """Linear models with normal inputs (correlated or not) take the compiled fast path;
+    everything else (other marginals, non-linear models) maps the same method's normals through
+    the copula and calls ``model``."""
     fast = linear_fast_plan(transform, sensitivities) if sensitivities is not None else None
     return LinearSource(method, seed, tuple(stream), transform, model, fast)
 

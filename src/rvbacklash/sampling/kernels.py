@@ -1,9 +1,9 @@
 """Compiled inner loops (numba, nogil so that threads run them in parallel).
 
-Draw order is part of the reproducibility contract: for each sample, factor by factor,
-``rng.standard_normal()`` (default) or two ``rng.random()`` (Box-Muller). numba's Generator
-methods reproduce numpy's streams bit for bit, so the numpy fallbacks in ``engine`` give the
-same numbers.
+Draw order is part of the reproducibility contract: for each sample, factor by factor, two
+``rng.random()`` (Box-Muller). numba's Generator methods reproduce numpy's streams bit for bit,
+so the numpy fallbacks in ``engine`` give the same numbers. The default method's normals are
+drawn by ``fast_normals`` (its own generator inside the kernel).
 """
 
 from __future__ import annotations
@@ -17,18 +17,6 @@ TWO_PI = 2.0 * math.pi
 
 
 @nb.njit(nogil=True, cache=True)
-def linear_normal_block(rng, n, weights, offset, out):
-    """out[i] = offset + sum_j z_ij * weights[j], z standard normal from ``rng`` (ziggurat).
-    The linear model with sigma folded into the weights: y = c + sum (S_j sigma_j) z_j."""
-    k = weights.size
-    for i in range(n):
-        y = offset
-        for j in range(k):
-            y += rng.standard_normal() * weights[j]
-        out[i] = y
-
-
-@nb.njit(nogil=True, cache=True)
 def box_muller_normal(r1, r2):
     """Sun et al. 2014, Eq. (8) with mu = 0, sigma = 1: z = sqrt(-2 ln R1) sin(2 pi R2).
     R1 is taken as 1 - u, u in [0, 1), so that ln never sees 0."""
@@ -37,7 +25,8 @@ def box_muller_normal(r1, r2):
 
 @nb.njit(nogil=True, cache=True)
 def linear_box_muller_block(rng, n, weights, offset, out):
-    """As ``linear_normal_block`` with each normal from two uniforms by Eq. (8)."""
+    """out[i] = offset + sum_j z_ij * weights[j] (in order j), each z from two uniforms of
+    ``rng`` by Eq. (8): the linear model with sigma folded into the weights."""
     k = weights.size
     for i in range(n):
         y = offset
