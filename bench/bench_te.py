@@ -18,6 +18,7 @@ import time
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=float, default=1e4)
+    ap.add_argument("--tiny", action="store_true", help="64 units: the test suite's check that the bench runs")
     a = ap.parse_args()
     import numpy as np
 
@@ -27,7 +28,7 @@ def main() -> None:
     from rvbacklash.sampling.te_source import te_streams, transmission_source
 
     p = rb.prepare("rv80e")
-    n = int(a.samples)
+    n = 64 if a.tiny else int(a.samples)
     rb.simulate(p, samples=16, seed=0, model="transmission")  # compile / load the kernels
     t = time.perf_counter()
     r = rb.simulate(p, samples=n, seed=1, model="transmission", specs={"transmission_error": 60.0})

@@ -13,6 +13,8 @@ import pytest
 
 BENCH = Path(__file__).resolve().parents[1] / "bench"
 BENCHES = sorted(BENCH.glob("bench_*.py"))
+ALL_ROWS = ("contact model production run", "elastic model production run", "`rvbacklash sensitivity",
+            "`rvbacklash allocate", "linear engine (sun2014", "linear engine / numpy generation")
 
 
 def test_the_benches_are_found():
@@ -25,3 +27,7 @@ def test_bench_runs_at_a_tiny_size_and_prints_figures(script):
     assert p.returncode == 0, p.stderr[-3000:]
     figures = [line for line in p.stdout.splitlines() if re.search(r"\d", line)]
     assert len(figures) >= 2, p.stdout
+    if script.stem == "bench_all":  # `make bench`: every row of the table, judged
+        for row in ALL_ROWS:
+            line = next((x for x in p.stdout.splitlines() if x.startswith(row)), None)
+            assert line is not None and any(w in line.split() for w in ("pass", "FAIL")), (row, p.stdout)
