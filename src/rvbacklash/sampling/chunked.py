@@ -1,5 +1,5 @@
-"""Serial draws, parallel evaluation: the pattern of the per-unit block sources (transmission error;
-the elastic model's source repeats it and can use this function after the merge of issue 16)."""
+"""Serial draws, parallel evaluation: the pattern of the per-unit block sources (the elastic and
+transmission-error models)."""
 
 from __future__ import annotations
 

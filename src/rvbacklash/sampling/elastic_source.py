@@ -18,7 +18,6 @@ a spec on the lost motion alone would reward interference, which closes the play
 from __future__ import annotations
 
 import math
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, fields
 
 import numpy as np
@@ -31,6 +30,7 @@ from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_unit
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.contact_source import (PRELOAD_OUTPUT, STAGE2_ORDER, ContactBlockSource, block_streams,
                                                 contact_source, draw_unit, save_unit, save_width, unit_scratch)
+from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
 from rvbacklash.units import ARCMIN_PER_RAD
 
@@ -147,23 +147,18 @@ class ElasticBlockSource:
         out = np.empty((N_OUTPUTS, n))
         keep = min(self.save_units, n) if b == 0 else 0
         save = np.empty((keep, save_width(c.geometry)))
+
         def evaluate(start: int, units: UnitBatch) -> None:
             out[:, start:start + units.chi_rad.size] = evaluate_batch(self.model, units)
+
+        def draw(start: int, m: int) -> UnitBatch:
+            return draw_units(c, streams, m, save[start:start + m] if start < keep else None)
 
         # Drawing is serial (one stream per factor) and ~5x faster than evaluating, so the chunks
         # are evaluated by a small pool while the next is drawn: the engine's first block (run
         # alone) uses both cores too. Every chunk fills its own slice: the numbers do not depend
         # on the pool.
-        with ThreadPoolExecutor(max_workers=EVAL_THREADS) as pool:
-            jobs = []
-            for start in range(0, n, CHUNK):
-                m = min(CHUNK, n - start)
-                if len(jobs) > EVAL_THREADS:  # bounded memory: a few chunks in flight at most
-                    jobs.pop(0).result()
-                units = draw_units(c, streams, m, save[start:start + m] if start < keep else None)
-                jobs.append(pool.submit(evaluate, start, units))
-            for job in jobs:
-                job.result()
+        draw_then_evaluate(n, CHUNK, EVAL_THREADS, draw, evaluate)
         if keep:
             c.saved[:] = list(save)
             self._saved[:] = c.saved_units()
