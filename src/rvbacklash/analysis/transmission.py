@@ -20,7 +20,8 @@ import numpy as np
 from rvbacklash.errors import InputError
 from rvbacklash.models.contact import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          perfect_unit, position_table, revolution)
+                                          perfect_unit, position_table, reference_revolution,
+                                          revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -162,7 +163,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     table = position_table(g, positions, float(r.chi_rad))
     theta = table[0]
     perfect = perfect_unit(problem, r.chi_rad)
-    ref = revolution(problem, perfect, positions, table=table)
+    ref = reference_revolution(problem, positions, float(r.chi_rad))
     run = revolution(problem, r, positions, table=table)
 
     def te(rev: Revolution) -> tuple[np.ndarray, np.ndarray]:
