@@ -176,14 +176,17 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 scenarios: Iterable[Scenario] = (), paper: bool = False, model: str = "linear",
                 workers: int | None = None, sensitivity: bool = False, allocate: bool = False,
                 yield_target: float | None = None, spec_rigidity_nm_per_arcmin: float | None = None,
-                spec_preload_um: float | None = None, allocate_model: str | None = None,
+                spec_preload_um: float | None = None, spec_te_arcsec: float | None = None,
+                allocate_model: str | None = None,
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
                 progress: Callable[[int], None] | None = None) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
-    histograms); ``sensitivity``: Sobol indices of the model; ``allocate``: the cheapest grades
+    histograms); with ``model="transmission"`` or a TE spec ``spec_te_arcsec`` (which turns the
+    linear or contact model into the transmission model) the transmission-error section (curves of the
+    nominal and the 5 % / 95 % units, spectrum, histogram); ``sensitivity``: Sobol indices of the model; ``allocate``: the cheapest grades
     meeting ``spec_arcmin`` [and ``spec_rigidity_nm_per_arcmin``, ``spec_preload_um``] at ``yield_target`` (with
     the Sobol chart) with ``allocate_model`` (default: ``model``; e.g. "linear" for a fast, conservative
     allocation beside a Monte-Carlo report) and ``allocate_samples`` per candidate (Monte-Carlo models);
@@ -205,6 +208,15 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
         raise InputError("yield_target" if spec_arcmin is not None else "spec_arcmin",
                          yield_target if spec_arcmin is not None else spec_arcmin,
                          "allowed: a value; an allocation needs spec_arcmin and yield_target")
+    if spec_te_arcsec is not None:
+        from rvbacklash.analysis.allocation import check_targets
+
+        check_targets(1.0, 0.9, spec_te_arcsec=spec_te_arcsec)
+        if model not in ("linear", "contact", "transmission"):  # linear: the default, it has no TE
+            raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed with the linear (the default), contact or "
+                                                               "transmission model")
+        model = "transmission"
+        specs = {**dict(specs or {}), "transmission_error": float(spec_te_arcsec)}
     sweep = None
     if sweep_dir is not None:
         from rvbacklash.analysis.sweep import load_sweep
@@ -217,7 +229,7 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     chosen = (_paper_scenarios(problem) if paper else []) + list(scenarios)
     sim = _simulate(problem, samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin, specs=specs,
                     model=model, workers=workers, progress=progress)
-    comparison = elastic = sens = alloc = None
+    comparison = elastic = sens = alloc = transmission = None
     if chosen:
         n = min(samples, REPORT_SCENARIO_SAMPLES) if method != "exact" else samples
         comparison = Comparison(problem.name, spec_arcmin, model, method, seed, n, (), True,
@@ -229,6 +241,10 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
 
         elastic = elastic_section(problem, simulation=sim, specs={**({"lost_motion": spec_arcmin} if spec_arcmin
                                                                        else {}), **dict(specs or {})}, seed=seed)
+    if model == "transmission" and not sim.partial:
+        from rvbacklash.analysis.transmission import transmission_section
+
+        transmission = transmission_section(problem, simulation=sim, spec_te_arcsec=spec_te_arcsec, seed=seed)
     if (sensitivity or allocate) and not sim.partial:
         from rvbacklash.analysis.sensitivity_global import global_sensitivity
 
@@ -240,10 +256,12 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
         by = allocate_model or model
         alloc = _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=by,
                           spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin if by == "elastic" else None,
-                          spec_preload_um=spec_preload_um if by != "linear" else None, seed=seed, workers=workers,
+                          spec_preload_um=spec_preload_um if by != "linear" else None,
+                          spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
+                          workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep)
+                             elastic, sweep, transmission)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
@@ -304,10 +322,11 @@ def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None
 
 def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, model: str = "linear",
              spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-             samples: int = ALLOCATION_SAMPLES, seed: int = 0, scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
+             spec_te_arcsec: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0, scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
              progress: Callable[[int], None] | None = None) -> AllocationResult:
     """The cheapest precision grade per part group such that P(backlash <= spec_arcmin [and
-    rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um]) >= yield_target
+    rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um] [and TE peak-to-peak
+    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution]) >= yield_target
     (backlash: the model's primary output, lost motion for the elastic model), with the uniform-grade baseline
     and the cost-yield Pareto front (docs/allocation.md). Costs: the design's [costs] table over
     the defaults. The linear model is solved exactly; the Monte-Carlo models (``samples`` per
@@ -321,7 +340,7 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
     if model == "linear" or scheduler in (None, "inline"):
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
                          executor=None, workers=workers, pareto=pareto, progress=progress)
     try:
         from rvbacklash.analysis.executor import executor
@@ -332,5 +351,5 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
         ex = stack.enter_context(executor(scheduler, workers))
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
                          executor=ex, workers=None, pareto=pareto, progress=progress)

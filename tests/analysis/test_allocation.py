@@ -254,3 +254,26 @@ def test_uniform_candidates_cover_the_common_grades(small):
     assert [g for g, _ in _uniform(small)] == common == [5, 6]
     assert all(set(c) == {g} for g, c in _uniform(small))
     assert len(list(itertools.product(*(c.grades for c in small.groups)))) == 6912
+
+
+def test_allocation_buys_transmission_error_with_the_grades():
+    """--spec-te-arcsec: the contact model's units turned through a revolution (the transmission
+    model); the chosen design meets the backlash and TE specs jointly on the search stream, exactly
+    as simulate reports it, and the linear model refuses the spec in one line."""
+    p = _problem(TINY)
+    r = allocate(p, model="contact", spec_arcmin=3.0, yield_target=0.6, samples=1000, seed=1, workers=1,
+                 spec_te_arcsec=90.0)
+    assert r.model == "transmission" and r.spec_te_arcsec == 90.0
+    assert "TE peak-to-peak <= 90 arcsec" in r.binding.constraint
+    assert r.yield_.ci95_low >= 0.6 and "transmission_error" in r.yields
+    from rvbacklash.analysis.simulation import simulate
+
+    run = simulate(prepare(r.design), model="transmission", samples=1000, seed=1, stream=(0,), spec_arcmin=3.0,
+                   specs={"transmission_error": 90.0}, workers=1)
+    assert run.joint_yield == r.yield_
+    with pytest.raises(InputError) as e:
+        allocate(p, spec_arcmin=3.0, yield_target=0.6, spec_te_arcsec=90.0)
+    assert e.value.field == "spec_te_arcsec"
+    with pytest.raises(InputError) as e:
+        allocate(p, model="contact", spec_arcmin=3.0, yield_target=0.6, samples=1000, spec_te_arcsec=-1.0)
+    assert e.value.field == "spec_te_arcsec"

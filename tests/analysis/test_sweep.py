@@ -354,3 +354,33 @@ def test_a_sweep_that_cannot_start_leaves_nothing_behind(plan, tmp_path, monkeyp
         run_sweep(plan, out=done, scheduler="tcp://127.0.0.1:1")
     assert len(read_points(done / "points", plan)) == len(plan) - 1
     assert run_sweep(plan, out=done, scheduler="inline").rows() == first.rows()  # the resume uses what stayed
+
+
+def test_a_transmission_sweep_gives_the_te_figures_of_each_point(tmp_path):
+    """model = "transmission": every point's row carries the TE peak-to-peak figures and yield
+    against its spec, the same numbers as simulate on the point's stream."""
+    text = """
+design = "rv80e"
+model = "transmission"
+samples = 400
+seed = 3
+
+[specs]
+backlash = 3.0
+transmission_error = 60.0
+
+[[parameters]]
+path = "second_stage.equidistance_modification_um"
+values = [0, 8]
+"""
+    plan = plan_sweep(write(tmp_path, text))
+    rows = run_sweep(plan, scheduler="inline").rows()
+    assert len(rows) == 2
+    for i, row in enumerate(rows):
+        for key in ("transmission_error_mean", "transmission_error_q99865", "transmission_error_yield",
+                    "lost_motion_max_mean", "joint_yield"):
+            assert key in row, key
+        run = simulate(prepare(plan.designs[i]), model="transmission", samples=400, seed=3, stream=(i,),
+                       specs={"backlash": 3.0, "transmission_error": 60.0}, workers=1)
+        te = run.outputs["transmission_error"]
+        assert row["transmission_error_mean"] == te.mean and row["transmission_error_yield"] == te.yield_.fraction

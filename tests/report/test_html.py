@@ -162,14 +162,16 @@ RAW_UNITS = re.compile(r"nm_per_arcmin|\[um\]|arcmin_per_um|\bNone\b")
 
 @pytest.fixture(scope="module")
 def model_reports(report, tmp_path_factory):
-    """The linear report above, and a contact and an elastic one (small runs), as HTML and JSON."""
+    """The linear report above, and a contact, an elastic and a transmission-error one (small runs),
+    as HTML and JSON."""
     import rvbacklash as rb
     from rvbacklash.report.files import render_json
 
     d = tmp_path_factory.mktemp("models")
     pages = {"linear": report}
     for model, kwargs in (("contact", {"spec_arcmin": 1.0}),
-                          ("elastic", {"specs": {"lost_motion": 1.0, "rigidity": 1000.0}})):
+                          ("elastic", {"specs": {"lost_motion": 1.0, "rigidity": 1000.0}}),
+                          ("transmission", {"spec_te_arcsec": 60.0, "spec_arcmin": 3.0})):
         data = rb.make_report("rv80e", samples=5000, seed=1, model=model, **kwargs)
         html = d / f"{model}.html"
         html.write_text(rb.render_html(data))
@@ -198,6 +200,16 @@ def test_each_model_leads_with_its_own_figures(model_reports):
             assert ">Test-bench figures of" in text and 'id="fig-histogram"' not in text  # no linear overlay
             assert "yield, backlash" not in cards  # no spec on backlash: no yield card
             assert 'id="where-lost-motion"' in text and "Elastic model</strong>" in text
+        if model == "transmission":  # its own section: curves, spectrum, histogram with the spec
+            assert {"simulation.transmission_error.mean", "simulation.transmission_error.yield"} <= keys
+            assert 'id="transmission-error"' in text and 'id="fig-te-curves"' in text
+            assert 'id="fig-te-histogram"' in text and "spec ≤ 60″" in text
+            section = data["transmission"]
+            assert set(section["quantile_units"]) == {"5 %", "95 %"} and section["spec_te_arcsec"] == 60.0
+            low, high = (section["quantile_units"][k]["te_peak_to_peak_arcsec"] for k in ("5 %", "95 %"))
+            assert 0 < low < high
+        else:
+            assert 'id="transmission-error"' not in text
         assert data["metadata"]["model"] == model and data["schema_version"]
         assert ('id="fig-convergence"' in text) == (sum(c["q99865_arcmin"] is not None
                                                        for c in data["simulation"]["convergence"]) >= 3)

@@ -142,6 +142,7 @@ class AllocationResult(Result):
     spec_arcmin: float
     spec_rigidity_nm_per_arcmin: float | None
     spec_preload_um: float | None  # upper limit of the cycloid stage's preload (contact, elastic)
+    spec_te_arcsec: float | None  # upper limit of the TE peak-to-peak (transmission model)
     yield_target: float
     unit: str
     cost: float
@@ -187,7 +188,8 @@ class AllocationResult(Result):
 
 # --- checks --------------------------------------------------------------------------------------
 
-def check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin=None, spec_preload_um=None) -> None:
+def check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin=None, spec_preload_um=None,
+                  spec_te_arcsec=None) -> None:
     if spec_arcmin is None or isinstance(spec_arcmin, bool) or not isinstance(spec_arcmin, (int, float)) or \
             not (math.isfinite(spec_arcmin) and spec_arcmin > 0):
         raise InputError("spec_arcmin", spec_arcmin, "allowed: a finite number > 0 [arcmin]")
@@ -203,16 +205,26 @@ def check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin=None, s
             isinstance(spec_preload_um, bool) or not isinstance(spec_preload_um, (int, float))
             or not (math.isfinite(spec_preload_um) and spec_preload_um >= 0)):
         raise InputError("spec_preload_um", spec_preload_um, "allowed: a finite number >= 0 [um]")
+    if spec_te_arcsec is not None and (
+            isinstance(spec_te_arcsec, bool) or not isinstance(spec_te_arcsec, (int, float))
+            or not (math.isfinite(spec_te_arcsec) and spec_te_arcsec > 0)):
+        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed: a finite number > 0 [arcsec]")
 
 
-def extra_specs(spec_rigidity_nm_per_arcmin: float | None, spec_preload_um: float | None) -> dict[str, float]:
+SPEC_PARAMETERS = {"rigidity": "spec_rigidity_nm_per_arcmin", "preload": "spec_preload_um",
+                   "transmission_error": "spec_te_arcsec"}  # output -> the API parameter of its spec
+
+
+def extra_specs(spec_rigidity_nm_per_arcmin: float | None, spec_preload_um: float | None,
+                spec_te_arcsec: float | None = None) -> dict[str, float]:
     """The specs beside the primary output's, by output name."""
-    return {k: float(v) for k, v in (("rigidity", spec_rigidity_nm_per_arcmin), ("preload", spec_preload_um))
-            if v is not None}
+    return {k: float(v) for k, v in (("rigidity", spec_rigidity_nm_per_arcmin), ("preload", spec_preload_um),
+                                     ("transmission_error", spec_te_arcsec)) if v is not None}
 
 
 def _specs_text(specs: Mapping[str, float]) -> str:
-    words = {"rigidity": "rigidity >= {:g} N m/arcmin", "preload": "preload <= {:g} um"}
+    words = {"rigidity": "rigidity >= {:g} N m/arcmin", "preload": "preload <= {:g} um",
+             "transmission_error": "TE peak-to-peak <= {:g} arcsec"}
     return "".join(f", {words[k].format(v)}" for k, v in specs.items())
 
 
@@ -539,7 +551,7 @@ def allocate_linear(problem: Problem, *, spec_arcmin: float, yield_target: float
     constraint = f"P(backlash <= {spec_arcmin:g} arcmin) >= {yield_target:g}"
     return AllocationResult(
         design_name=problem.name, model="linear", method="exact", optimality=optimality, output="backlash",
-        spec_arcmin=float(spec_arcmin), spec_rigidity_nm_per_arcmin=None, spec_preload_um=None,
+        spec_arcmin=float(spec_arcmin), spec_rigidity_nm_per_arcmin=None, spec_preload_um=None, spec_te_arcsec=None,
         yield_target=float(yield_target),
         unit=ch.unit, cost=sol.cost, cost_before=cost_before, yield_=y_exact, yield_before=before,
         yields={"backlash": y_exact}, grades=_named(ch, sol.grades), groups=_groups_table(ch, sol.grades),
@@ -695,20 +707,20 @@ def search_monte_carlo(ch: GradeChoices, start: tuple[int, ...], runs: _Runs, ta
 
 def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yield_target: float,
                          spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-                         samples: int = DEFAULT_MC_SAMPLES,
+                         spec_te_arcsec: float | None = None, samples: int = DEFAULT_MC_SAMPLES,
                          seed: int = 0, executor=None, workers: int | None = None, max_evaluations: int = 200,
                          progress: Callable[[int], None] | None = None) -> AllocationResult:
     """Allocation under a Monte-Carlo model (module docstring): common random numbers for every
     candidate, local search from the linear optimum, verification on an independent stream."""
     started = time.perf_counter()
-    check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um)
+    check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec)
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 1000 <= samples <= 10**7:
         raise InputError("samples", samples, "allowed: a whole number of samples per candidate, 1000 to 1e7 "
                                              "(a search evaluates up to 200 candidates)")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("seed", seed, "allowed: an integer >= 0")
     ch = grade_choices(problem)
-    specs = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um) or None
+    specs = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec) or None
     notes = list(ch.notes)
     try:
         lin = solve_linear(ch, spec_arcmin, yield_target)
@@ -724,7 +736,7 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
             evs = runs.evaluate(first_batch)
         except InputError as e:
             if e.field == "specs":
-                name = "spec_rigidity_nm_per_arcmin" if e.value == "rigidity" else "spec_preload_um"
+                name = SPEC_PARAMETERS[e.value]
                 raise InputError(name, specs[e.value], f"the {model} model has no {e.value} output; {e.allowed}") \
                     from None
             raise
@@ -793,7 +805,8 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         design_name=problem.name, model=model, method="monte-carlo", output=output, optimality=(
             "local search with common random numbers from the linear optimum; verified on an independent stream"),
         spec_arcmin=float(spec_arcmin), spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
-        spec_preload_um=spec_preload_um, yield_target=float(yield_target), unit=ch.unit, cost=cost, cost_before=cost_before, yield_=ev.yield_,
+        spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec, yield_target=float(yield_target), unit=ch.unit,
+        cost=cost, cost_before=cost_before, yield_=ev.yield_,
         yield_before=before, yields=dict(ev.yields), grades=_named(ch, chosen), groups=_groups_table(ch, chosen),
         binding=binding, baseline=base, saving=saving,
         saving_fraction=saving / base.cost if saving is not None and base.cost else None,
@@ -804,12 +817,19 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
 
 def allocate(problem: Problem, *, spec_arcmin: float, yield_target: float, model: str = "linear",
              spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-             samples: int = DEFAULT_MC_SAMPLES, seed: int = 0,
+             spec_te_arcsec: float | None = None, samples: int = DEFAULT_MC_SAMPLES, seed: int = 0,
              executor=None, workers: int | None = None, pareto: bool = True,
              progress: Callable[[int], None] | None = None) -> AllocationResult:
     """The cheapest grades per part group meeting the spec at the target yield: exact for the
-    linear model, a Monte-Carlo search for the others (module docstring)."""
+    linear model, a Monte-Carlo search for the others (module docstring). A TE spec
+    (``spec_te_arcsec``) turns the contact model into the transmission model (the same units turned
+    through a revolution, models.kinematics), as ``simulate`` does."""
+    if spec_te_arcsec is not None and model == "contact":
+        model = "transmission"
     if model == "linear":
+        if spec_te_arcsec is not None:
+            raise InputError("spec_te_arcsec", spec_te_arcsec, "the linear model has no transmission-error output; "
+                                                               "allowed with the contact or transmission model")
         if spec_rigidity_nm_per_arcmin is not None:
             raise InputError("spec_rigidity_nm_per_arcmin", spec_rigidity_nm_per_arcmin,
                              "the linear model has no rigidity output; allowed with a model that has one (elastic)")
@@ -819,5 +839,6 @@ def allocate(problem: Problem, *, spec_arcmin: float, yield_target: float, model
         return allocate_linear(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, pareto=pareto)
     return allocate_monte_carlo(problem, model=model, spec_arcmin=spec_arcmin, yield_target=yield_target,
                                 spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
-                                spec_preload_um=spec_preload_um, samples=samples, seed=seed,
+                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec, samples=samples,
+                                seed=seed,
                                 executor=executor, workers=workers, progress=progress)

@@ -31,6 +31,7 @@ class ReportData(Result):
     allocation: object | None = None  # analysis.allocation.AllocationResult
     elastic: object | None = None  # analysis.hysteresis.ElasticSection
     sweep: object | None = None  # the sweep section (analysis.sweep), when the report shows one
+    transmission: object | None = None  # analysis.transmission.TransmissionSection
 
     @property
     def partial(self) -> bool:
@@ -58,6 +59,8 @@ class ReportData(Result):
             out.update({"elastic.nominal.lost_motion_arcmin": n.lost_motion_arcmin,
                         "elastic.nominal.backlash_arcmin": n.backlash_arcmin,
                         "elastic.nominal.torsional_rigidity_nm_per_arcmin": n.torsional_rigidity_nm_per_arcmin})
+        if self.transmission is not None:
+            out["transmission.nominal.te_peak_to_peak_arcsec"] = self.transmission.nominal.te_peak_to_peak_arcsec
         return out
 
     @property
@@ -66,7 +69,8 @@ class ReportData(Result):
 
     def headline_outputs(self) -> tuple[str, ...]:
         """The outputs the first screen shows for the chosen model (linear: the stack-up's cards)."""
-        return {"contact": ("backlash",), "elastic": ("lost_motion", "backlash", "rigidity")}.get(self.model, ())
+        return {"contact": ("backlash",), "elastic": ("lost_motion", "backlash", "rigidity"),
+                "transmission": ("transmission_error", "backlash")}.get(self.model, ())
 
     def specs(self) -> dict[str, float]:
         """Every spec given, by output (the yields the report shows)."""
@@ -110,7 +114,7 @@ class ReportData(Result):
                 "analysis": self.stackup.to_dict(), "simulation": self.simulation.to_dict(),
                 "comparison": d(self.comparison), "contact_nominal": d(self.contact),
                 "sensitivity": d(self.sensitivity), "allocation": d(self.allocation), "elastic": d(self.elastic),
-                "sweep": d(self.sweep)}
+                "sweep": d(self.sweep), "transmission": d(self.transmission)}
 
     def rows(self) -> list[dict]:
         return [{"key": k, "value": v} for k, v in self.key_numbers().items()]
@@ -174,8 +178,8 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
 def build_report_data(problem: Problem, stackup: StackupResult, simulation: SimulationResult,
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
-                      sweep=None) -> ReportData:
+                      sweep=None, transmission=None) -> ReportData:
     return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact,
                       validity_warnings(problem, stackup, simulation),
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
-                      elastic, sweep)
+                      elastic, sweep, transmission)

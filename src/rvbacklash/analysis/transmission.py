@@ -20,7 +20,8 @@ import numpy as np
 from rvbacklash.errors import InputError
 from rvbacklash.models.contact import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          perfect_unit, position_table, revolution)
+                                          perfect_unit, position_table, reference_revolution,
+                                          revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -162,7 +163,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     table = position_table(g, positions, float(r.chi_rad))
     theta = table[0]
     perfect = perfect_unit(problem, r.chi_rad)
-    ref = revolution(problem, perfect, positions, table=table)
+    ref = reference_revolution(problem, positions, float(r.chi_rad))
     run = revolution(problem, r, positions, table=table)
 
     def te(rev: Revolution) -> tuple[np.ndarray, np.ndarray]:
@@ -188,3 +189,46 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
         float(np.ptp(other)), float(lm.max()), float(lm.min()), float(lm[0]), int(np.count_nonzero(run.preload_um > 0)),
         float(np.ptp(ripple)), tuple(SpectralLine(int(k), float(spec[k])) for k in lead), tuple(out_shares),
         math.degrees(r.chi_rad), ASSUMPTIONS, np.degrees(theta), ccw, cw, lm, spec)
+
+
+REPORT_UNITS = 64  # units drawn for the report's 5 % / 95 % curves (exact curve each, ~20 ms)
+
+
+@dataclass(frozen=True, repr=False)
+class TransmissionSection(Result):
+    """What the report's transmission-error section shows: the nominal unit's curve and spectrum,
+    the curves of the drawn units at given quantiles of TE peak-to-peak (among ``samples`` units of
+    the production run's first block, exact geometry), and the production run (its TE histogram)."""
+
+    nominal: TransmissionErrorResult
+    quantile_units: dict[str, TransmissionErrorResult]  # "5 %" -> the unit at that quantile of TE p-p
+    samples: int
+    seed: int
+    spec_te_arcsec: float | None
+    simulation: object | None = field(default=None, metadata={EXPORT: False})  # SimulationResult, transmission
+
+    def to_dict(self) -> dict:
+        return {"nominal": self.nominal.to_dict(),
+                "quantile_units": {k: v.to_dict() for k, v in self.quantile_units.items()},
+                "samples": self.samples, "seed": self.seed, "spec_te_arcsec": self.spec_te_arcsec}
+
+    def summary(self) -> list[str]:
+        return self.nominal.summary()[:1] + [f"{k} unit: TE p-p {v.te_peak_to_peak_arcsec:.2f} arcsec"
+                                             for k, v in self.quantile_units.items()]
+
+
+def transmission_section(problem: Problem, simulation=None, spec_te_arcsec: float | None = None, seed: int = 0,
+                         samples: int = REPORT_UNITS, probabilities: tuple[float, ...] = (0.05, 0.95),
+                         positions: int = DEFAULT_POSITIONS) -> TransmissionSection:
+    """The report's section (TransmissionSection): the nominal unit, and among the first ``samples``
+    units the run draws with ``seed`` those at ``probabilities`` of TE peak-to-peak (lower order
+    statistic of the exact curves' peak-to-peak)."""
+    from rvbacklash.sampling.te_source import sample_units
+
+    nominal = transmission_error(problem, perfect_unit(problem), "nominal", positions, shares=False)
+    units = sample_units(problem, seed, samples)
+    curves = [transmission_error(problem, u, f"unit {k} of seed {seed}", positions, shares=False)
+              for k, u in enumerate(units)]
+    order = np.argsort([c.te_peak_to_peak_arcsec for c in curves], kind="stable")
+    chosen = {f"{p * 100:g} %": curves[int(order[min(samples - 1, int(p * (samples - 1)))])] for p in probabilities}
+    return TransmissionSection(nominal, chosen, samples, seed, spec_te_arcsec, simulation)

@@ -63,7 +63,8 @@ def allocate(
     yield_target: float = typer.Option(..., "--yield", help="Target yield P: the share of units that must meet "
                                                             "the spec, 0.5 < P < 1 (e.g. 0.99)."),
     model: str = typer.Option("linear", "--model", help="linear (exact: MILP on the exact distribution) | contact | "
-                                                        "elastic (Monte-Carlo search with common random numbers)."),
+                                                        "elastic | transmission (Monte-Carlo search with common random "
+                                                        "numbers)."),
     spec_rigidity: Optional[float] = typer.Option(None, "--spec-rigidity-nm-per-arcmin",
                                                   help="Also require torsional rigidity >= K [N m/arcmin] "
                                                        "(models with a rigidity output)."),
@@ -71,6 +72,10 @@ def allocate(
                                                  help="Also require the cycloid stage's preload <= P [um] (contact, "
                                                       "elastic): without it, coarser parts can 'meet' a lost-motion "
                                                       "spec by interference."),
+    spec_te_arcsec: Optional[float] = typer.Option(None, "--spec-te-arcsec",
+                                                   help="Also require the transmission error's peak-to-peak over one "
+                                                        "output revolution <= X [arcsec]; turns --model contact into "
+                                                        "--model transmission (docs/transmission-error.md)."),
     write_design: Optional[Path] = typer.Option(None, "--write-design", metavar="FILE",
                                                 help="Write the chosen design (its grades set) as a TOML design "
                                                      "file that simulate re-runs."),
@@ -101,8 +106,8 @@ def allocate(
     problem = api.prepare(design)
     with progress_bar(None if model == "linear" else 200, what="candidates") as progress:
         result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
-                              spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload, samples=n,
-                              seed=seed, scheduler=scheduler, workers=threads, progress=progress)
+                              spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload,
+                              spec_te_arcsec=spec_te_arcsec, samples=n, seed=seed, scheduler=scheduler, workers=threads, progress=progress)
     data, rows = result.to_dict(), result.front_rows()
     header = (f"Written by rvbacklash allocate ({problem.source}): {result.binding.constraint}, {result.model} model.\n"
               f"Cost {result.cost:.6g} {result.unit}"
@@ -114,7 +119,8 @@ def allocate(
                  f"Re-run: rvbacklash simulate FILE --model {result.model} --spec-arcmin {result.spec_arcmin:g} "
                  f"-n {result.samples} --seed {result.seed}"
                  + (f" --spec-rigidity-nm-per-arcmin {spec_rigidity:g}" if spec_rigidity is not None else "")
-                 + (f" --spec-preload-um {spec_preload:g}" if spec_preload is not None else "")))
+                 + (f" --spec-preload-um {spec_preload:g}" if spec_preload is not None else "")
+                 + (f" --spec-te-arcsec {spec_te_arcsec:g}" if spec_te_arcsec is not None else "")))
     out.finish({"--write-design": lambda: design_toml(result.design, header), "--json": lambda: render_json(data),
                 "--csv": lambda: render_csv(rows), "--plot": lambda: front_svg(result)},
                lambda: print_allocation(result, stdout_console()), data, rows)

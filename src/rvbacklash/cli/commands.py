@@ -220,6 +220,7 @@ def report(
     spec_lost_motion_arcmin: Optional[float] = SPEC_LOST_MOTION_OPTION,
     spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
     spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,
+    spec_te_arcsec: Optional[float] = SPEC_TE_OPTION,
     sensitivity: bool = typer.Option(False, "--sensitivity", help="Add the Sobol indices of the model (What to "
                                                                   "tighten; minutes for the contact/elastic models)."),
     allocate: bool = typer.Option(False, "--allocate", help="Add the cheapest grades that meet --spec-arcmin at "
@@ -253,6 +254,9 @@ def report(
     threads = workers_or_none(workers)
     specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
                          spec_preload_um)
+    # a TE spec makes the report's run the transmission model's (the default linear model has no TE)
+    model, _ = te_model_and_specs("contact" if spec_te_arcsec is not None and model == "linear" else model,
+                                  spec_te_arcsec, {})
     if allocate and yield_target is None:
         raise InputError("--yield", None, "allowed: a target yield 0.5 < P < 1; --allocate needs it")
     if allocate and spec_arcmin is None:
@@ -267,7 +271,8 @@ def report(
                                spec_arcmin=spec_arcmin, specs=specs or None, scenarios=chosen, paper=paper, model=model,
                                workers=threads, sensitivity=sensitivity, allocate=allocate, yield_target=yield_target,
                                spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
-                               spec_preload_um=spec_preload_um, allocate_model=allocate_model,
+                               spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec,
+                               allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
                                progress=progress)
     summary = {"report": str(output.resolve()), **data.metadata(), "key_numbers": data.key_numbers()}

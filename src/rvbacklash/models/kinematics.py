@@ -44,7 +44,8 @@ import numpy as np
 from rvbacklash._numba import nb
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import Realization, _linear_maxmin, mesh_table, stage_play, unit_arrays, unit_gaps
+from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH,
+                                      Realization, _linear_maxmin, mesh_table, stage_play, unit_arrays)
 from rvbacklash.problem import Problem
 
 ARCSEC_PER_RAD = 648000.0 / math.pi
@@ -107,6 +108,58 @@ def crank_angle_errors(theta, centre_ecc_um, planet_ecc_um, ratio, zp, base_radi
 
 
 @nb.njit(nogil=True, cache=True)
+def unit_pins(coef, rp, dr, dt, rho, cl, cx, cy, base):
+    """What of a unit's pins does not change as the output turns: each pin centre in the housing
+    frame (cx, cy) [mm] and its gap's constant part -rho + cl / 2 [um] (``pin_in_disc``, hoisted)."""
+    for j in range(cx.size):
+        rad = rp + dr[j] * 1e-3
+        cpsi, spsi = coef[0, j, CPSI], coef[0, j, SPSI]
+        cx[j] = rad * cpsi - dt[j] * 1e-3 * spsi
+        cy[j] = rad * spsi + dt[j] * 1e-3 * cpsi
+        base[j] = -rho[j] + 0.5 * cl[j]
+
+
+@nb.njit(nogil=True, cache=True)
+def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, ux, uy, da, gap, lever):
+    """``models.contact.unit_gaps`` without the pin centres it keeps for the exact solve, the pins'
+    constant part hoisted (``unit_pins``): every pin's gap [um] and lever [um/rad] at beta = 0 into
+    gap/lever; returns (lo, hi, flat) as unit_gaps does. The production run's fast path."""
+    hi = np.inf
+    lo = -np.inf
+    flat = np.inf
+    tol = 1e-9 * azc_um
+    for d in range(discs):
+        c0 = coef[d, 0]
+        ex, ey, cang, sang = c0[CCHI], c0[SCHI], c0[CANG], c0[SANG]
+        off = a + da[d] * 1e-3
+        dx = off * ex + (ux[d] * ex - uy[d] * ey) * 1e-3  # the disc centre and its profile offset [mm]
+        dy = off * ey + (ux[d] * ey + uy[d] * ex) * 1e-3
+        mdd = md[d] * 1e-3
+        for j in range(zp):
+            c = coef[d, j]
+            px = cx[j] - dx
+            py = cy[j] - dy
+            dl = -teeth[d, int(c[TOOTH])] * 1e-3 / rp  # as pin_in_disc
+            cdl, sdl = 1.0 - 0.5 * dl * dl + dl ** 4 / 24.0, dl - dl ** 3 / 6.0
+            ca, sa = cang * cdl - sang * sdl, sang * cdl + cang * sdl
+            qx, qy = ca * px - sa * py, sa * px + ca * py
+            ox = c[OX] + mdd * c[EUX]
+            oy = c[OY] + mdd * c[EUY]
+            dist = math.sqrt((qx - ox) ** 2 + (qy - oy) ** 2)
+            g = eq[d] + base[j] + c[SIDE] * (dist - c[RHO]) * 1e3
+            lv = c[SIDE] * (qy * ox - qx * oy) / dist * 1e3
+            gap[d, j] = g
+            lever[d, j] = lv
+            if lv > tol:
+                hi = min(hi, g / lv)
+            elif lv < -tol:
+                lo = max(lo, g / lv)
+            else:
+                flat = min(flat, g)
+    return lo, hi, flat
+
+
+@nb.njit(nogil=True, cache=True)
 def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base_radius_mm, crank_radius_mm,
              dr, dt, rho, cl, teeth0, eq, md, ux0, uy0, da, centre_ecc_um, planet_ecc_um, shift_um, turn_rad,
              teeth, ux, uy, dchi, gap, lever, work, res, te_ccw, te_cw, preload, exact):
@@ -118,6 +171,8 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
     each first contact solved on the exact curve (stage_play); else linearised at the assembled
     position (unit_gaps' free interval: the production run's fast path, error bounded in the tests)."""
     planets = dchi.size
+    pcx, pcy, pbase = np.empty(zp), np.empty(zp), np.empty(zp)
+    unit_pins(coef[0], rp, dr, dt, rho, cl, pcx, pcy, pbase)
     for n in range(chis.size):
         chi = chis[n]
         crank_angle_errors(thetas[n], centre_ecc_um, planet_ecc_um, ratio, zp, base_radius_mm, dchi)
@@ -141,8 +196,8 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
             stage_play(coef[n], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
                        gap, lever, work, res)
         else:
-            lo, hi, flat = unit_gaps(coef[n], a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
-                                     gap, lever, work)
+            lo, hi, flat = free_interval(coef[n], a, rp, zp, discs, azc_um, pcx, pcy, pbase, teeth, eq, md, ux, uy,
+                                         da, gap, lever)
             if hi < lo or flat < 0.0:
                 res[0] = np.nan
                 res[2] = 0.0
@@ -245,3 +300,24 @@ def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITI
     ccw, cw, pre = flank_positions(g, r, coef, theta, chis, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets,
                                    exact)
     return Revolution(theta, ccw, cw, pre)
+
+
+@functools.lru_cache(maxsize=8)
+def _reference(g, kin: Kinematics, equidistance_um: float, moving_distance_um: float, clearance_um: float,
+               chi0_rad: float, positions: int, exact: bool) -> Revolution:
+    r = Realization.nominal(g, equidistance_um, moving_distance_um, clearance_um, chi0_rad)
+    theta, chis, coef = position_table(g, positions, chi0_rad)
+    ccw, cw, pre = flank_positions(g, r, coef, theta, chis, kin.ratio, kin.base_radius_mm, kin.crank_radius_mm,
+                                   kin.planets, exact)
+    for x in (ccw, cw, pre):
+        x.flags.writeable = False
+    return Revolution(theta, ccw, cw, pre)
+
+
+def reference_revolution(problem: Problem, positions: int, chi0_rad: float = 0.0, exact: bool = True) -> Revolution:
+    """The error-free unit's revolution (``perfect_unit``): the same for every unit of a design, so
+    it is computed once per design, start and resolution (cached; read-only arrays)."""
+    s2 = problem.design.second_stage
+    clearance = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
+    return _reference(problem.cycloid, kinematics(problem), float(s2.equidistance_modification_um),
+                      float(s2.moving_distance_modification_um), clearance, float(chi0_rad), int(positions), exact)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from rvbacklash.analysis.report_data import ReportData
 from rvbacklash.report import headline, plots
 from rvbacklash.report.elastic_plots import elastic_figures
+from rvbacklash.report.transmission_plots import transmission_figures
 from rvbacklash.report.sweep import section_context as sweep_section_context
 from rvbacklash.report.what_to_tighten import what_to_tighten_context
 from rvbacklash.report.templating import environment
@@ -29,6 +30,8 @@ def render_html(data: ReportData) -> str:
     extra = what_to_tighten_context(data.sensitivity, data.allocation)
     if data.elastic is not None:
         extra.update(elastic=data.elastic, elastic_figures=elastic_figures(data.elastic))
+    if data.transmission is not None:
+        extra.update(transmission=data.transmission, transmission_figures=transmission_figures(data.transmission))
     if data.sweep is not None:
         extra.update(sweep_section_context(data.sweep))
     head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),

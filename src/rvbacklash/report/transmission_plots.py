@@ -44,3 +44,44 @@ def te_figure(result, others: Sequence = (), title: str = ""):
 
 def te_svg(result, others: Sequence = (), title: str = "") -> str:
     return _svg(te_figure(result, others, title))
+
+
+def te_histogram_figure(sim, spec_te_arcsec: float | None = None):
+    """Histogram (density) of the production run's TE peak-to-peak, its 0.135 % / 99.865 %
+    quantiles dotted and the spec dashed; the legend below the axes (off the bars)."""
+    o = sim.outputs["transmission_error"]
+    fig, ax = plt.subplots(figsize=(7.5, 3.6))
+    h = o.histogram
+    ax.stairs(np.asarray(h.density), np.asarray(h.edges), fill=True, alpha=0.5, color=BLUE, label=f"{o.samples:,} units")
+    for q in o.quantiles:
+        if q.value is not None and q.probability in (0.00135, 0.99865):
+            ax.axvline(q.value, color=GREY, lw=1.0, ls=":")
+    spec = spec_te_arcsec if spec_te_arcsec is not None else o.spec_limit
+    if spec is not None:
+        y = f", yield {o.yield_.fraction * 100:.2f} %" if o.yield_ is not None else ""
+        ax.axvline(spec, color=RED, ls="--", lw=1.2, label=f"spec ≤ {spec:g}″{y}")
+    ax.set_xlabel("transmission error peak-to-peak [arcsec]")
+    ax.set_ylabel("density")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
+    ax.set_title(f"{sim.design_name}: production run, TE peak-to-peak (quantiles 0.135 % / 99.865 % dotted)",
+                 fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def transmission_figures(section) -> dict[str, str | None]:
+    """Inline SVG for the report partial ``_transmission_section.html.j2`` from a
+    ``TransmissionSection``: the nominal unit's curves and spectrum with the quantile units' curves,
+    and the production run's histogram."""
+    from rvbacklash.report.plots import inline_svg
+
+    sim = section.simulation
+    others = tuple(section.quantile_units.values())
+    return {
+        "te_curves": inline_svg(te_svg(section.nominal, others,
+                                       f"{section.nominal.design_name}: nominal unit and the units at "
+                                       f"{', '.join(section.quantile_units)} of TE peak-to-peak")),
+        "te_histogram": inline_svg(_svg(te_histogram_figure(sim, section.spec_te_arcsec)))
+        if sim is not None and "transmission_error" in sim.outputs else None,
+    }

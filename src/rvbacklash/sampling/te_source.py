@@ -24,10 +24,9 @@ from numpy.random import PCG64, Generator, SeedSequence
 
 from rvbacklash._numba import nb
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
-from rvbacklash.models.contact import mesh_table
 from rvbacklash.errors import InputError
-from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scratch, kinematics, output_positions,
-                                          perfect_unit, revolution, te_curve)
+from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scratch, kinematics, position_table,
+                                          reference_revolution, te_curve)
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
 from rvbacklash.sampling.chunked import draw_then_evaluate
@@ -172,9 +171,8 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     c = contact_source(problem, "default", seed, stream)
     g = problem.cycloid
     n = positions or POSITIONS_PER_PIN * g.zp
-    theta, chis = output_positions(g, n, 0.0)
-    table = (theta, chis, mesh_table(g, chis))
-    ref = revolution(problem, perfect_unit(problem), n, exact=False, table=table)
+    table = position_table(g, n, 0.0)
+    ref = reference_revolution(problem, n, 0.0, exact=False)
     k = kinematics(problem)
     sigmas = np.array([z.sigma_um for z in kinematic_zones(problem.design, problem.zones)])
     return TransmissionBlockSource(c, sigmas, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets, table,
