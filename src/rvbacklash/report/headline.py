@@ -47,7 +47,8 @@ LEADS = {
                "The linear stack-up below explains where it comes from.",
     "elastic": "what the test bench will read off every unit of a production run: lost motion at ±3 % of the rated "
                "torque, backlash and torsional rigidity from the hysteresis loop (Hertz contacts of the pins, "
-               "needle bearings, involute mesh), and the share of units within spec. The linear stack-up below "
+               "needle bearings, involute mesh, and the crankshafts, support bearings and carrier where the design "
+               "gives them), and the share of units within spec. The linear stack-up below "
                "explains where the lost motion comes from.",
 }
 
