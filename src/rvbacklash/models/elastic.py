@@ -4,7 +4,8 @@
 Input locked, housing fixed, torque T on the output. The output angle is a chain of elements in
 series, each referred to the output:
 
-    theta(T) = theta_pins(T_el) + theta_crank(T_el) + theta_involute(T_el) + T_el / K_structure
+    theta(T) = theta_pins + theta_crank + theta_involute + theta_crankshafts + theta_support + theta_carrier
+               + T_el / K_structure + T_el / K_main
 
 - **cycloid pins** (both discs in parallel, tied by the cranks: one rotation): contact j closes
   by delta_j = (L_j / k) theta - g_j [um] (gap g_j and signed lever L_j of the contact model,
@@ -16,7 +17,12 @@ series, each referred to the output:
   clearance G_r: the dead band); the disc turns delta_r / a0 against the carrier, the output k
   times that;
 - **involute stage**: dead band b_1 (its backlash at the output) and stiffness K_1;
-- **structure**: main bearings and the rest, stated stiffnesses.
+- **the rest of the torque path** from the design's [structure] table (``with_structure``):
+  crankshafts (bending, shear, torsion: linear), support bearings (a tapered-roller set with its
+  clearance, solved like the needle bearings, once per batch), carrier pillars (linear), and the
+  discs' sideways motion on their needle bearings (a factor on their elastic part across the
+  eccentric; with ``disc_translation = "full"`` also along it, ``solve_pins``);
+- **structure** and **main bearings**: stated stiffnesses (a measured value wins).
 
 Friction: a Coulomb torque T_f = T_f0 + mu |T_el| at the output in parallel with the chain
 (``compliance.elastic_torque_nm``). The loop's rising branch (load+ and unload-) and falling
@@ -547,15 +553,15 @@ def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
 @nb.njit(nogil=True, cache=True)
 def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
     """The unit's pin contacts referred to the output (levers / k), with their contact-law
-    coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, index,
-    shifted gaps, shifted bounds).
+    coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, shifted
+    gaps, shifted bounds).
     Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
     ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
     rotation closes, the tip and root pins); each with its closure per um of its disc's translation
     along the eccentric (``compliance.pin_radial_closure``), its disc, and scratch: yw (7, discs)
     holds the discs' translations [um] (row 0), sums (rows 1-4) and the last translations solved
-    under a positive and a negative load (rows 5, 6: the next solve's start), then the original
-    indices, the shifted gaps and their bounds (``solve_pins``)."""
+    under a positive and a negative load (rows 5, 6: the next solve's start), then scratch for
+    the gaps shifted by the translations and their bounds (``solve_pins``)."""
     discs, zp = gap_um.shape
     g = gap_um.ravel()
     lev = lever_um_per_rad.ravel() / c.lever_factor
@@ -572,7 +578,6 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
     ak = np.empty(m)
     rk = np.zeros(m)
     dk = np.zeros(m, dtype=np.int64)
-    ik = np.zeros(m, dtype=np.int64)
     for j in range(m):
         if every or lev[j] * x_hi - g[j] > 0.0 or lev[j] * x_lo - g[j] > 0.0:
             phi = pin_phase(j, chi, zp, discs)
@@ -581,10 +586,9 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
             ak[keep] = pin_law_a(phi, c)
             rk[keep] = cm.pin_radial_closure(phi, c.k1)
             dk[keep] = j // zp
-            ik[keep] = j
             keep += 1
     set_bounds(gk, lk, keep, bounds)
-    return gk, lk, ak, keep, bounds, np.zeros(keep), rk, dk, np.zeros((7, discs)), ik[:keep], np.empty(keep), np.empty(5)
+    return gk, lk, ak, keep, bounds, np.zeros(keep), rk, dk, np.zeros((7, discs)), np.empty(keep), np.empty(5)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -645,7 +649,7 @@ def solve_pins(pins, load, side, guess, c):
     Newton step on the y's with x re-solved (J = diag(K_yy,q + K_y) - K_xy K_xy^T / K_xx), from the
     last y's, until the residuals are below 1e-10 of the forces. The dead band's edge of a
     translating disc is read at TINY_TORQUE (its radial balance needs a direction)."""
-    pg, pl, pa, pm, pb, pw, pr, pd, py, _, ge, gb = pins
+    pg, pl, pa, pm, pb, pw, pr, pd, py, ge, gb = pins
     ky = c.radial_stiffness_n_per_um
     if not ky < np.inf:
         return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess)
