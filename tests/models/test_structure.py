@@ -274,3 +274,9 @@ def test_structure_needs_two_discs(problem):
     bad = d.model_copy(update={"second_stage": d.second_stage.model_copy(update={"discs": 3})})
     with pytest.raises(InputError, match="second_stage.discs"):
         el.elastic_model(prepare(bad))
+
+
+def test_hysteresis_table_names_the_structure_table():
+    # "[structure]" is rich markup unless escaped: the table once printed "derived from  (disc ...)"
+    p = run_cli("hysteresis", "rv80e")
+    assert p.returncode == 0 and "derived from [structure]" in " ".join(p.stdout.split()), p.stdout[-800:]
