@@ -627,10 +627,9 @@ def prepare_support(c):
 
 
 @nb.njit(nogil=True, cache=True)
-def _mirrored_solve(st, load, s, b, n, scale, state, i):
-    """A roller set's deflection under ``load`` (side s at zero load), from state[i] (the + start),
-    state[i + 1] (the - start), state[i + 2], state[i + 3] (the last |load| and |deflection|: a
-    symmetric set's mirrored load needs no solve, ``symmetric`` = state's caller)."""
+def _warm_solve(st, load, s, b, n, scale, state, i):
+    """A roller set's deflection under ``load`` (side s at zero load), started from the last
+    solution under a load of the same sign: state[i] (+) or state[i + 1] (-), updated."""
     g, lv, la, m, bounds, work, _ = st
     k = i if s > 0.0 else i + 1
     x = solve_set(g, lv, la, b, n, scale, m, bounds, work, load, s, state[k])
@@ -716,7 +715,7 @@ def support_deflection_um(t_el, s, support, c, state):
     if c.support_symmetric != 0.0 and sload != 0.0 and abs(sload) == state[8]:
         ds = s * state[9]
     else:
-        ds = _mirrored_solve(support, sload, s, 0.0, cm.PALMGREN_EXPONENT, 1.0, state, 6)
+        ds = _warm_solve(support, sload, s, 0.0, cm.PALMGREN_EXPONENT, 1.0, state, 6)
         state[8] = abs(sload)
         state[9] = abs(ds)
     if free >= 0:
