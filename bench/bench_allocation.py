@@ -44,14 +44,22 @@ def main() -> None:
     n = int(a.samples)
     rb.simulate(problem, samples=min(n, 4096), model="contact")  # compile the contact kernels outside the timing
     t = time.perf_counter()
-    mc = rb.allocate(problem, model="contact", spec_arcmin=mc_spec, yield_target=mc_yield, samples=n, seed=0)
+    try:
+        mc = rb.allocate(problem, model="contact", spec_arcmin=mc_spec, yield_target=mc_yield, samples=n, seed=0)
+    except rb.InputError as e:
+        # a search whose cheapest candidates all fail verification is an answer, not a crash (at the
+        # tiny size the margin of a 1000-sample run is wide): the bench prints its time and reason
+        print(f"contact allocation (rv80e, {mc_spec} arcmin at {mc_yield:.0%}, {n} samples per candidate): "
+              f"{time.perf_counter() - t:6.1f} s; no design confirmed: {e}")
+        mc = None
     t_mc = time.perf_counter() - t
-    print(f"contact allocation (rv80e, {mc_spec} arcmin at {mc_yield:.0%}, {n} samples per candidate, inline, {default_workers()} "
-          f"threads): {t_mc:6.1f} s; {mc.evaluations} runs; cost {mc.cost:.4g} vs baseline "
-          f"{mc.baseline.cost if mc.baseline.cost is None else round(mc.baseline.cost, 4)}, yield "
-          f"{mc.yield_.fraction:.4f} [{mc.yield_.ci95_low:.4f}, {mc.yield_.ci95_high:.4f}], verified "
-          f"{mc.verification.fraction:.4f}")
-    if a.local:
+    if mc is not None:
+        print(f"contact allocation (rv80e, {mc_spec} arcmin at {mc_yield:.0%}, {n} samples per candidate, inline, "
+              f"{default_workers()} threads): {t_mc:6.1f} s; {mc.evaluations} runs; cost {mc.cost:.4g} vs baseline "
+              f"{mc.baseline.cost if mc.baseline.cost is None else round(mc.baseline.cost, 4)}, yield "
+              f"{mc.yield_.fraction:.4f} [{mc.yield_.ci95_low:.4f}, {mc.yield_.ci95_high:.4f}], verified "
+              f"{mc.verification.fraction:.4f}")
+    if a.local and mc is not None:
         t = time.perf_counter()
         mc2 = rb.allocate(problem, model="contact", spec_arcmin=mc_spec, yield_target=mc_yield, samples=n, seed=0,
                           scheduler="local")

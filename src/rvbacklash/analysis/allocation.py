@@ -770,6 +770,10 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         seen = max(runs.cache.values(), key=lambda e: e.yield_.fraction, default=None)
         what = f"the best candidate reached {seen.yield_.fraction:.6f} [{seen.yield_.ci95_low:.6f}, " \
                f"{seen.yield_.ci95_high:.6f}]" if seen is not None else "no candidate was evaluated"
+        failed = [n for n in notes if "failed verification" in n]
+        if failed:  # the search found feasible designs; the cheapest ones did not hold on a second stream
+            what = f"{len(failed)} cheapest feasible candidates failed verification on an independent stream; " \
+                   f"first: {failed[0].removeprefix('candidate ')}"
         raise InputError("yield_target", yield_target, f"no design confirmed under the {model} model ({what}); "
                                                        f"allowed: a lower yield, a larger spec, or more samples (-n)")
     ev = runs.cache[chosen]

@@ -332,6 +332,52 @@ def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
 
 
 @nb.njit(nogil=True, cache=True)
+def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
+    """(max over beta of min_j gap_j(beta) [um], the beta [rad]) on the osculating circles
+    (stage_play): negative, the unit's preload."""
+    # the max of min_j gap_j(beta) lies where the lowest falling gap (lever > 0) meets the lowest
+    # rising one: safeguarded Newton on their difference, each gap on its osculating circle
+    beta = _linear_maxmin(gap, lever, lo, hi, discs, zp)
+    m = -np.inf
+    done = False
+    for _ in range(12):  # Newton from the linear answer: usually a few steps
+        fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
+        m = min(fall, rise)
+        if abs(fall - rise) < PRELOAD_STEP_UM:
+            done = True
+            break
+        if lf == lr:
+            break
+        beta += (fall - rise) / (lf - lr)
+    if not done:  # safeguarded: a bracket with the rising gap lowest at its left end, the falling at its right
+        width = 1e-5
+        left, right = beta - width, beta + width
+        for _ in range(60):
+            fl, _, rl, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, left)
+            fr, _, rr, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, right)
+            if fl >= rl and fr <= rr:
+                break
+            if fl < rl:
+                left -= width
+            if fr > rr:
+                right += width
+            width *= 2.0
+        beta = 0.5 * (left + right)
+        for _ in range(80):
+            fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
+            m = min(fall, rise)
+            if abs(fall - rise) < PRELOAD_STEP_UM or right - left < 1e-15:
+                break
+            if fall > rise:
+                left = beta
+            else:
+                right = beta
+            nxt = beta + (fall - rise) / (lf - lr) if lf != lr else 0.5 * (left + right)
+            beta = nxt if left < nxt < right else 0.5 * (left + right)
+    return m, beta
+
+
+@nb.njit(nogil=True, cache=True)
 def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work):
     """Every pin's gap [um] and lever [um/rad] at beta = 0 on its osculating circle (see stage_play)
     into gap/lever (discs, z_p); work[0], work[1] receive the pin centres in the disc frame, work[3]
@@ -381,61 +427,36 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
     gap_j(0) [um] and lever_j = -d gap_j / d beta (0) [um/rad] (> 0 stops a counter-clockwise
     rotation), the elastic model's inputs; ``work`` (4, discs, z_p) is scratch space. The discs
     are tied by the cranks (one beta). The unit is preloaded when the linearised gaps admit no
-    beta that frees every pin; its preload [um] is then -max_beta min_j gap_j(beta).
+    beta that frees every pin, or when, at the middle of the interval they admit, a pin's
+    osculating gap still interferes (a pin facing a tooth tip, where the gap bends back within
+    the interval); its preload [um] is then -max_beta min_j gap_j(beta), and a unit whose
+    max-min gap turns out positive is free after all, centred on that beta.
     Otherwise, from the middle of the free interval, each side's first contact is the nearest
     root of the pins' gaps; the pins within a band of it (BAND_NARROW, BAND_WIDE near the tips)
-    are checked on the exact curve (exact_gap_um) and the first of them solved exactly.
+    are checked on the exact curve (exact_gap_um) and the first of them solved exactly, then the
+    pins within the band of that refined contact are checked again (the osculating estimate can
+    be off by more than the band near a tip).
     """
     qx_, qy_, est, tgt = work[0], work[1], work[2], work[3]
     lo, hi, flat = unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever,
                              work)
     for i in range(3, 7):
         out[i] = -1
-    if hi < lo or flat < 0.0:  # preloaded: the deepest interference at the best rotation
-        # the max of min_j gap_j(beta) lies where the lowest falling gap (lever > 0) meets the lowest
-        # rising one: safeguarded Newton on their difference, each gap on its osculating circle
-        beta = _linear_maxmin(gap, lever, lo, hi, discs, zp)
-        m = -np.inf
-        done = False
-        for _ in range(12):  # Newton from the linear answer: usually a few steps
-            fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
-            m = min(fall, rise)
-            if abs(fall - rise) < PRELOAD_STEP_UM:
-                done = True
-                break
-            if lf == lr:
-                break
-            beta += (fall - rise) / (lf - lr)
-        if not done:  # safeguarded: a bracket with the rising gap lowest at its left end, the falling at its right
-            width = 1e-5
-            left, right = beta - width, beta + width
-            for _ in range(60):
-                fl, _, rl, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, left)
-                fr, _, rr, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, right)
-                if fl >= rl and fr <= rr:
-                    break
-                if fl < rl:
-                    left -= width
-                if fr > rr:
-                    right += width
-                width *= 2.0
-            beta = 0.5 * (left + right)
-            for _ in range(80):
-                fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
-                m = min(fall, rise)
-                if abs(fall - rise) < PRELOAD_STEP_UM or right - left < 1e-15:
-                    break
-                if fall > rise:
-                    left = beta
-                else:
-                    right = beta
-                nxt = beta + (fall - rise) / (lf - lr) if lf != lr else 0.5 * (left + right)
-                beta = nxt if left < nxt < right else 0.5 * (left + right)
-        out[0] = np.nan
-        out[1] = np.nan
-        out[2] = max(-m, 0.0)
-        return
+    preloaded = hi < lo or flat < 0.0
     bc = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
+    if not preloaded:
+        # the linear screen can miss a pin facing a tooth tip: its gap bends back (RHO ~ 0.1 mm) and
+        # may interfere at every rotation; on the osculating circles every pin must be free at bc
+        fall, _, rise, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, bc)
+        preloaded = min(fall, rise) < -PRELOAD_TOL_UM
+    if preloaded:  # the deepest interference at the best rotation (or, if it is positive, a free unit after all)
+        m, beta = _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi)
+        if m < PRELOAD_TOL_UM:
+            out[0] = np.nan
+            out[1] = np.nan
+            out[2] = max(-m, 0.0)
+            return
+        bc = beta
     out[2] = 0.0
     for side in range(2):  # 0: counter-clockwise (beta > 0), 1: clockwise
         sgn = 1.0 if side == 0 else -1.0
@@ -461,25 +482,31 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
                                           qy * ox - qx * oy, tgt[d, j], bc, sgn)
                 est[d, j] = x
                 first = min(first, x)
-        # the candidates on the exact curve: one secant step each from their estimate
+        # the candidates on the exact curve: one secant step each from their estimate; a second pass
+        # takes the pins within the band of the refined first contact that the estimate's band left out
+        # (a tip pin's osculating circle can put its estimate early)
         best = np.inf
         bd, bj = -1, -1
-        for d in range(discs):
-            for j in range(zp):
-                x = est[d, j]
-                band = BAND_WIDE if coef[d, j][RHO] < RHO_TIGHT_MM else BAND_NARROW
-                if x > first * (1.0 + band):
-                    continue
-                t0 = coef[d, j][T0]
-                f1 = exact_gap_um(j, d, bc + sgn * x, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
-                                  ux, uy, da, t0)
-                h = 1e-7 + 1e-3 * x
-                f2 = exact_gap_um(j, d, bc + sgn * (x + h), chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
-                                  ux, uy, da, t0)
-                if f2 != f1:
-                    x -= f1 * h / (f2 - f1)
-                if x < best:
-                    best, bd, bj = x, d, j
+        for rnd in range(2):
+            ref = first if rnd == 0 else best
+            for d in range(discs):
+                for j in range(zp):
+                    x = est[d, j]
+                    band = BAND_WIDE if coef[d, j][RHO] < RHO_TIGHT_MM else BAND_NARROW
+                    if x > ref * (1.0 + band) or (rnd == 1 and x <= first * (1.0 + band)):
+                        continue
+                    t0 = coef[d, j][T0]
+                    f1 = exact_gap_um(j, d, bc + sgn * x, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
+                                      ux, uy, da, t0)
+                    h = 1e-7 + 1e-3 * x
+                    f2 = exact_gap_um(j, d, bc + sgn * (x + h), chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq,
+                                      md, ux, uy, da, t0)
+                    if f2 != f1:
+                        x -= f1 * h / (f2 - f1)
+                    if x < best:
+                        best, bd, bj = x, d, j
+            if not best > first:
+                break
         for _ in range(3):  # the first of them to full precision
             t0 = coef[bd, bj][T0]
             f1 = exact_gap_um(bj, bd, bc + sgn * best, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 from rvbacklash._numba import nb
 import numpy as np
-from numpy.random import PCG64, Generator, SeedSequence
+from numpy.random import SeedSequence
 
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG
@@ -39,6 +39,8 @@ from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import Realization, mesh_table, stage_play
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.engine import Output
+from rvbacklash.sampling.fast_normals import (states_from_generators, stream_normal, stream_states,
+                                              stream_uniform)
 from rvbacklash.sampling.kernels import box_muller_normal
 from rvbacklash.sampling.part_errors import calibrate, harmonic_deviations
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -55,11 +57,13 @@ LINEAR_KEYS = tuple(f.key for f in CATALOG if f.stage.label in ("involute", "cra
 
 
 def block_streams(seed: int, block: int, stream: tuple[int, ...] = (), swap: tuple[int, ...] = (),
-                  swap_stream: tuple[int, ...] = ()) -> tuple:
-    """The generators of block ``block``: one per catalog factor and one for the crank angle.
-    Factors listed in ``swap`` draw from ``swap_stream`` instead (a Sobol-type redraw)."""
-    return tuple(Generator(PCG64(SeedSequence(seed, spawn_key=(*(swap_stream if f in swap else stream), block, f))))
-                 for f in range(N_STREAMS))
+                  swap_stream: tuple[int, ...] = ()) -> np.ndarray:
+    """The streams of block ``block`` (N_STREAMS, 4): one xoshiro256++ state per catalog factor and
+    one for the crank angle (``fast_normals.stream_states``), each from
+    ``SeedSequence(seed, spawn_key=(*stream, block, f))``. Factors listed in ``swap`` draw from
+    ``swap_stream`` instead (a Sobol-type redraw)."""
+    return stream_states([SeedSequence(seed, spawn_key=(*(swap_stream if f in swap else stream), block, f))
+                          for f in range(N_STREAMS)])
 
 
 def marginal_table(problem: Problem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -86,33 +90,36 @@ def within_zone(problem: Problem, key: str, codes: np.ndarray, params: np.ndarra
 
 
 @nb.njit(nogil=True, cache=True, inline="always")
-def _normal(rng, bm):
+def _normal(streams, f, bm):
+    """A standard normal from stream f: the ziggurat, or Box-Muller (Sun et al. Eq. 8) on two
+    uniforms of the stream when ``bm``."""
     if bm:
-        return box_muller_normal(rng.random(), rng.random())
-    return rng.standard_normal()
+        return box_muller_normal(stream_uniform(streams, f), stream_uniform(streams, f))
+    return stream_normal(streams, f)
 
 
 @nb.njit(nogil=True, cache=True, inline="always")
-def draw(rng, code, p0, p1, p2, p3, bm, table):
-    """One draw of a factor's marginal (branches: factors.distributions.KERNEL_*); truncated
-    normal by rejection; any other law from its inverse cdf tabulated in ``table``."""
+def draw(streams, f, code, p0, p1, p2, p3, bm, table):
+    """One draw of a factor's marginal from stream f of ``streams`` (branches:
+    factors.distributions.KERNEL_*); truncated normal by rejection; any other law from its inverse
+    cdf tabulated in ``table``."""
     if code == 0:
         return p0
     if code == 1:
-        return p0 + p1 * _normal(rng, bm)
+        return p0 + p1 * _normal(streams, f, bm)
     if code == 2:
-        return p0 + (p1 - p0) * rng.random()
+        return p0 + (p1 - p0) * stream_uniform(streams, f)
     if code == 3:
         while True:
-            x = p0 + p1 * _normal(rng, bm)
+            x = p0 + p1 * _normal(streams, f, bm)
             if p2 <= x <= p3:
                 return x
     if code == 4:
-        return p0 + p1 * math.sqrt(-2.0 * math.log(1.0 - rng.random()))
-    t = rng.random() * table.size - 0.5  # KERNEL_TABLE: linear interpolation between the tabulated points
+        return p0 + p1 * math.sqrt(-2.0 * math.log(1.0 - stream_uniform(streams, f)))
+    t = stream_uniform(streams, f) * table.size - 0.5  # KERNEL_TABLE: linear interpolation between the tabulated points
     i = min(max(int(math.floor(t)), 0), table.size - 2)
-    f = min(max(t - i, 0.0), 1.0)
-    return table[i] + f * (table[i + 1] - table[i])
+    w = min(max(t - i, 0.0), 1.0)
+    return table[i] + w * (table[i + 1] - table[i])
 
 
 @nb.njit(nogil=True, cache=True)
@@ -145,62 +152,62 @@ def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_i
     ``harmonics`` (2, 4) the sigmas [first, second, element, radial element] of the disc teeth
     and of the pin holes (part_errors). Each factor draws from its own stream."""
     dr, dt, rho, cl, teeth, eq, md, ux, uy, da, s_p, q_p, s_c, tr, zeros_z, trig_p, trig_c = sc[:17]
-    # each stage-2 factor's generator, law and table, hoisted out of the loops (STAGE2_ORDER)
-    g_pitch, c_pitch, p_pitch, t_pitch = streams[idx[0]], codes[idx[0]], params[idx[0]], tables[idx[0]]
-    g_eq, c_eq, p_eq, t_eq = streams[idx[1]], codes[idx[1]], params[idx[1]], tables[idx[1]]
-    g_md, c_md, p_md, t_md = streams[idx[2]], codes[idx[2]], params[idx[2]], tables[idx[2]]
-    g_ro, c_ro, p_ro, t_ro = streams[idx[3]], codes[idx[3]], params[idx[3]], tables[idx[3]]
-    g_rad, c_rad, p_rad, t_rad = streams[idx[4]], codes[idx[4]], params[idx[4]], tables[idx[4]]
-    g_rho, c_rho, p_rho, t_rho = streams[idx[5]], codes[idx[5]], params[idx[5]], tables[idx[5]]
-    g_cl, c_cl, p_cl, t_cl = streams[idx[6]], codes[idx[6]], params[idx[6]], tables[idx[6]]
-    g_t, c_t, p_t, t_t = streams[idx[7]], codes[idx[7]], params[idx[7]], tables[idx[7]]
-    g_eqe, c_eqe, p_eqe, t_eqe = streams[idx[8]], codes[idx[8]], params[idx[8]], tables[idx[8]]
-    g_mde, c_mde, p_mde, t_mde = streams[idx[9]], codes[idx[9]], params[idx[9]], tables[idx[9]]
-    g_da, c_da, p_da, t_da = streams[idx[10]], codes[idx[10]], params[idx[10]], tables[idx[10]]
+    # each stage-2 factor's stream, law and table, hoisted out of the loops (STAGE2_ORDER)
+    g_pitch, c_pitch, p_pitch, t_pitch = idx[0], codes[idx[0]], params[idx[0]], tables[idx[0]]
+    g_eq, c_eq, p_eq, t_eq = idx[1], codes[idx[1]], params[idx[1]], tables[idx[1]]
+    g_md, c_md, p_md, t_md = idx[2], codes[idx[2]], params[idx[2]], tables[idx[2]]
+    g_ro, c_ro, p_ro, t_ro = idx[3], codes[idx[3]], params[idx[3]], tables[idx[3]]
+    g_rad, c_rad, p_rad, t_rad = idx[4], codes[idx[4]], params[idx[4]], tables[idx[4]]
+    g_rho, c_rho, p_rho, t_rho = idx[5], codes[idx[5]], params[idx[5]], tables[idx[5]]
+    g_cl, c_cl, p_cl, t_cl = idx[6], codes[idx[6]], params[idx[6]], tables[idx[6]]
+    g_t, c_t, p_t, t_t = idx[7], codes[idx[7]], params[idx[7]], tables[idx[7]]
+    g_eqe, c_eqe, p_eqe, t_eqe = idx[8], codes[idx[8]], params[idx[8]], tables[idx[8]]
+    g_mde, c_mde, p_mde, t_mde = idx[9], codes[idx[9]], params[idx[9]], tables[idx[9]]
+    g_da, c_da, p_da, t_da = idx[10], codes[idx[10]], params[idx[10]], tables[idx[10]]
     hd, hp = harmonics[0], harmonics[1]
-    step = int(steps * streams[21].random())
+    step = int(steps * stream_uniform(streams, CRANK_STREAM))
     lin = 0.0
     last = 0.0
     for m in range(linear_idx.size):
         f = linear_idx[m]
-        last = draw(streams[f], codes[f], params[f, 0], params[f, 1], params[f, 2], params[f, 3], bm, tables[f])
+        last = draw(streams, f, codes[f], params[f, 0], params[f, 1], params[f, 2], params[f, 3], bm, tables[f])
         lin += linear_sens[m] * last
-    eq0 = draw(g_eq, c_eq, p_eq[0], p_eq[1], p_eq[2], p_eq[3], bm, t_eq)
-    md0 = draw(g_md, c_md, p_md[0], p_md[1], p_md[2], p_md[3], bm, t_md)
+    eq0 = draw(streams, g_eq, c_eq, p_eq[0], p_eq[1], p_eq[2], p_eq[3], bm, t_eq)
+    md0 = draw(streams, g_md, c_md, p_md[0], p_md[1], p_md[2], p_md[3], bm, t_md)
     # the pins and their holes
     if long_wave:
-        common = draw(g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
-        hx, hy = hp[0] * _normal(g_t, bm), hp[0] * _normal(g_t, bm)
-        cx, cy = hp[1] * _normal(g_t, bm), hp[1] * _normal(g_t, bm)
+        common = draw(streams, g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
+        hx, hy = hp[0] * _normal(streams, g_t, bm), hp[0] * _normal(streams, g_t, bm)
+        cx, cy = hp[1] * _normal(streams, g_t, bm), hp[1] * _normal(streams, g_t, bm)
         for j in range(zp):
-            s_p[j] = hp[2] * _normal(g_t, bm)
-            q_p[j] = hp[3] * _normal(g_t, bm)
+            s_p[j] = hp[2] * _normal(streams, g_t, bm)
+            q_p[j] = hp[3] * _normal(streams, g_t, bm)
         harmonic_deviations(hx, hy, cx, cy, s_p, q_p, trig_p, dt, dr)
         for j in range(zp):
             dr[j] += common
     else:
         for j in range(zp):
-            dr[j] = draw(g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
-            dt[j] = draw(g_t, c_t, p_t[0], p_t[1], p_t[2], p_t[3], bm, t_t)
+            dr[j] = draw(streams, g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
+            dt[j] = draw(streams, g_t, c_t, p_t[0], p_t[1], p_t[2], p_t[3], bm, t_t)
     for j in range(zp):
-        rho[j] = draw(g_rho, c_rho, p_rho[0], p_rho[1], p_rho[2], p_rho[3], bm, t_rho)
-        cl[j] = draw(g_cl, c_cl, p_cl[0], p_cl[1], p_cl[2], p_cl[3], bm, t_cl)
+        rho[j] = draw(streams, g_rho, c_rho, p_rho[0], p_rho[1], p_rho[2], p_rho[3], bm, t_rho)
+        cl[j] = draw(streams, g_cl, c_cl, p_cl[0], p_cl[1], p_cl[2], p_cl[3], bm, t_cl)
     # the discs
     for d in range(discs):
-        eq[d] = eq0 + draw(g_eqe, c_eqe, p_eqe[0], p_eqe[1], p_eqe[2], p_eqe[3], bm, t_eqe)
-        md[d] = md0 + draw(g_mde, c_mde, p_mde[0], p_mde[1], p_mde[2], p_mde[3], bm, t_mde)
-        ux[d] = 0.5 * draw(g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
-        uy[d] = 0.5 * draw(g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
-        da[d] = draw(g_da, c_da, p_da[0], p_da[1], p_da[2], p_da[3], bm, t_da)
+        eq[d] = eq0 + draw(streams, g_eqe, c_eqe, p_eqe[0], p_eqe[1], p_eqe[2], p_eqe[3], bm, t_eqe)
+        md[d] = md0 + draw(streams, g_mde, c_mde, p_mde[0], p_mde[1], p_mde[2], p_mde[3], bm, t_mde)
+        ux[d] = 0.5 * draw(streams, g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
+        uy[d] = 0.5 * draw(streams, g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
+        da[d] = draw(streams, g_da, c_da, p_da[0], p_da[1], p_da[2], p_da[3], bm, t_da)
         if long_wave:
-            hx, hy = hd[0] * _normal(g_pitch, bm), hd[0] * _normal(g_pitch, bm)
-            cx, cy = hd[1] * _normal(g_pitch, bm), hd[1] * _normal(g_pitch, bm)
+            hx, hy = hd[0] * _normal(streams, g_pitch, bm), hd[0] * _normal(streams, g_pitch, bm)
+            cx, cy = hd[1] * _normal(streams, g_pitch, bm), hd[1] * _normal(streams, g_pitch, bm)
             for k in range(zc):
-                s_c[k] = hd[2] * _normal(g_pitch, bm)
+                s_c[k] = hd[2] * _normal(streams, g_pitch, bm)
             harmonic_deviations(hx, hy, cx, cy, s_c, zeros_z, trig_c, teeth[d], tr)
         else:
             for k in range(zc):
-                teeth[d, k] = draw(g_pitch, c_pitch, p_pitch[0], p_pitch[1], p_pitch[2], p_pitch[3], bm, t_pitch)
+                teeth[d, k] = draw(streams, g_pitch, c_pitch, p_pitch[0], p_pitch[1], p_pitch[2], p_pitch[3], bm, t_pitch)
     return step, lin, last, eq0, md0
 
 
@@ -365,7 +372,8 @@ def contact_source(problem: Problem, method: str, seed: int, stream: tuple[int, 
 @dataclass(frozen=True, eq=False)
 class ContactStreams:
     """The contact model as global sensitivity needs it (analysis.sensitivity_global.StreamModel):
-    every catalog factor, and the crank angle, draws from the generator it is given."""
+    every catalog factor, and the crank angle, draws from a stream seeded by the generator it is
+    given (``fast_normals.states_from_generators``)."""
 
     source: ContactBlockSource
     random: tuple[bool, ...]
@@ -375,7 +383,7 @@ class ContactStreams:
     def block(self, generators, n: int) -> np.ndarray:
         s, g = self.source, self.source.geometry
         out = np.empty((len(self.outputs), n))
-        contact_block(tuple(generators), n, False, s.error_model == "long_wave", s.codes, s.params, s.ppf_tables,
+        contact_block(states_from_generators(generators), n, False, s.error_model == "long_wave", s.codes, s.params, s.ppf_tables,
                       s.harmonics, s.linear_idx, s.linear_sens, np.array([IDX[k] for k in STAGE2_ORDER]), g.a_mm,
                       g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um, s.coef, out, np.empty((0, save_width(g))))
         return out

@@ -32,6 +32,7 @@ from rvbacklash.sampling.contact_source import (PRELOAD_OUTPUT, STAGE2_ORDER, Co
                                                 contact_source, draw_unit, save_unit, save_width, unit_scratch)
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
+from rvbacklash.sampling.fast_normals import states_from_generators
 from rvbacklash.units import ARCMIN_PER_RAD
 
 IDX = {k: i for i, k in enumerate(FACTOR_KEYS)}
@@ -201,7 +202,7 @@ class ElasticStreams:
         return self.source.outputs
 
     def block(self, generators, n: int) -> np.ndarray:
-        streams = tuple(generators)
+        streams = states_from_generators(generators)
         out = np.empty((N_OUTPUTS, n))
         for start in range(0, n, CHUNK):
             m = min(CHUNK, n - start)

@@ -227,3 +227,46 @@ def linear_normal_block(state, n, weights, offset, out):
             for i in range(m):
                 y[i] += z[i * k + j] * wj
     state[0], state[1], state[2], state[3] = s0, s1, s2, s3
+
+
+# --- stream sets: one xoshiro256++ state per factor, for the per-unit samplers -------------------
+# The contact, elastic and transmission-error sources draw every factor from a stream of its own
+# (a factor can be redrawn alone, global sensitivity). A stream set is a (k, 4) uint64 array, a
+# state per row; ``stream_normal(states, f)`` and ``stream_uniform(states, f)`` draw from row f
+# and advance it in place (~2 ns a number against ~17 ns through numba's Generator).
+
+def stream_states(seeds: list[SeedSequence]) -> np.ndarray:
+    """(len(seeds), 4) xoshiro256++ states, one per SeedSequence (never all zero)."""
+    out = np.empty((len(seeds), 4), dtype=np.uint64)
+    for i, s in enumerate(seeds):
+        out[i] = s.generate_state(4, np.uint64)
+        if not out[i].any():
+            out[i, 0] = 1
+    return out
+
+
+def states_from_generators(generators) -> np.ndarray:
+    """(len(generators), 4) states seeded by 4 words of each numpy Generator (the Sobol-type
+    redraws of global sensitivity hand a model one Generator per input)."""
+    out = np.empty((len(generators), 4), dtype=np.uint64)
+    for i, g in enumerate(generators):
+        out[i] = g.integers(0, 2**64, size=4, dtype=np.uint64, endpoint=False)
+        if not out[i].any():
+            out[i, 0] = 1
+    return out
+
+
+@nb.njit(nogil=True, inline="always")
+def stream_normal(states, f):
+    """A standard normal from stream f of ``states`` (advanced in place)."""
+    z, s0, s1, s2, s3 = _normal(states[f, 0], states[f, 1], states[f, 2], states[f, 3])
+    states[f, 0], states[f, 1], states[f, 2], states[f, 3] = s0, s1, s2, s3
+    return z
+
+
+@nb.njit(nogil=True, inline="always")
+def stream_uniform(states, f):
+    """A uniform in [0, 1) from stream f of ``states`` (advanced in place)."""
+    r, s0, s1, s2, s3 = _next(states[f, 0], states[f, 1], states[f, 2], states[f, 3])
+    states[f, 0], states[f, 1], states[f, 2], states[f, 3] = s0, s1, s2, s3
+    return _unit(r)

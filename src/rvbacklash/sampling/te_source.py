@@ -20,7 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.random import PCG64, Generator, SeedSequence
+from numpy.random import SeedSequence
 
 from rvbacklash._numba import nb
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
@@ -33,6 +33,7 @@ from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.contact_source import (IDX, N_STREAMS, STAGE2_ORDER, ContactBlockSource, _normal,
                                                 block_streams, contact_source, draw_unit, unit_scratch)
 from rvbacklash.sampling.engine import Output
+from rvbacklash.sampling.fast_normals import states_from_generators, stream_states
 from rvbacklash.units import ARCMIN_PER_RAD
 
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
@@ -47,11 +48,11 @@ TE_OUTPUTS = (
 )
 
 
-def te_streams(seed: int, block: int, stream: tuple[int, ...] = ()) -> tuple:
-    """The contact model's generators of block ``block`` and one per kinematic factor after them."""
-    return block_streams(seed, block, stream) + tuple(
-        Generator(PCG64(SeedSequence(seed, spawn_key=(*stream, block, N_STREAMS + m))))
-        for m in range(len(KINEMATIC_FACTORS)))
+def te_streams(seed: int, block: int, stream: tuple[int, ...] = ()) -> np.ndarray:
+    """The contact model's streams of block ``block`` and one per kinematic factor after them
+    (N_STREAMS + len(KINEMATIC_FACTORS), 4)."""
+    return np.concatenate([block_streams(seed, block, stream), stream_states(
+        [SeedSequence(seed, spawn_key=(*stream, block, N_STREAMS + m)) for m in range(len(KINEMATIC_FACTORS))])])
 
 
 @nb.njit(nogil=True, cache=True)
@@ -60,7 +61,7 @@ def draw_chunk(streams, kin, m, long_wave, codes, params, tables, harmonics, lin
                planet, shift, turn):
     """m units into the arrays (first axis: unit): the contact model's draws (draw_unit, crank angle
     ignored: every unit starts at the reference position) and the kinematic factors' (``kin``: one
-    generator each, KINEMATIC_FACTORS order; ``sigmas`` per component [um]), the holes reduced by
+    xoshiro stream state each, KINEMATIC_FACTORS order; ``sigmas`` per component [um]), the holes reduced by
     crank_fit to each disc's shift and turn."""
     sc = unit_scratch(zp, zc, discs)
     hd = np.empty((discs, planets, 2))
@@ -79,17 +80,17 @@ def draw_chunk(streams, kin, m, long_wave, codes, params, tables, harmonics, lin
         uy[s, :] = sc[8]
         da[s, :] = sc[9]
         for c in range(2):
-            centre[s, c] = sigmas[0] * _normal(kin[0], False)
+            centre[s, c] = sigmas[0] * _normal(kin, 0, False)
         for k in range(planets):
             for c in range(2):
-                planet[s, k, c] = sigmas[1] * _normal(kin[1], False)
+                planet[s, k, c] = sigmas[1] * _normal(kin, 1, False)
         for d in range(discs):
             for k in range(planets):
                 for c in range(2):
-                    hd[d, k, c] = sigmas[2] * _normal(kin[2], False)
+                    hd[d, k, c] = sigmas[2] * _normal(kin, 2, False)
         for k in range(planets):
             for c in range(2):
-                hc[k, c] = sigmas[3] * _normal(kin[3], False)
+                hc[k, c] = sigmas[3] * _normal(kin, 3, False)
         crank_fit(hd, hc, crank_radius_mm, planets, discs, shift[s], turn[s])
 
 
@@ -129,7 +130,7 @@ class TransmissionBlockSource:
     ref_ccw_rad: np.ndarray  # the error-free unit's ccw flank at the positions
     outputs: tuple[Output, ...] = TE_OUTPUTS
 
-    def _draw(self, streams: tuple, m: int) -> tuple:
+    def _draw(self, streams: np.ndarray, m: int) -> tuple:
         c, g = self.contact, self.contact.geometry
         p = self.planets
         arrays = (np.empty((m, g.zp)), np.empty((m, g.zp)), np.empty((m, g.zp)), np.empty((m, g.zp)),
@@ -205,7 +206,7 @@ def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = 
 class TransmissionStreams:
     """The transmission-error model as global sensitivity needs it (analysis.sensitivity_global.
     StreamModel): every catalog factor, the crank angle and every kinematic factor draws from the
-    generator it is given (Sobol indices of TE by part group)."""
+    stream seeded by the generator it is given (Sobol indices of TE by part group)."""
 
     source: TransmissionBlockSource
     random: tuple[bool, ...]
@@ -213,7 +214,7 @@ class TransmissionStreams:
     outputs: tuple[Output, ...] = TE_OUTPUTS
 
     def block(self, generators, n: int) -> np.ndarray:
-        streams = tuple(generators)
+        streams = states_from_generators(generators)
         out = np.empty((len(self.outputs), n))
         for start in range(0, n, CHUNK):
             m = min(CHUNK, n - start)
