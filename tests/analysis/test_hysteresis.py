@@ -137,11 +137,12 @@ def test_elastic_is_a_model_of_the_engine(problem):
     # the block source's numbers are the evaluation of the drawn units
     from rvbacklash.models.elastic import elastic_model
     from rvbacklash.sampling.contact_source import block_streams, contact_source
-    from rvbacklash.sampling.elastic_source import draw_units, evaluate_batch
+    from rvbacklash.sampling.elastic_source import BLOCK_UNITS, draw_units, evaluate_batch
 
     c = contact_source(problem, "default", 1)
-    units = draw_units(c, block_streams(1, 0), 3000)
-    out = evaluate_batch(elastic_model(problem), units)
+    model = elastic_model(problem)  # block b holds units [b BLOCK_UNITS, (b + 1) BLOCK_UNITS)
+    out = np.hstack([evaluate_batch(model, draw_units(c, block_streams(1, b), min(BLOCK_UNITS, 3000 - s)))
+                     for b, s in enumerate(range(0, 3000, BLOCK_UNITS))])
     assert lm.mean == pytest.approx(float(np.mean(out[0])), rel=1e-12)
     assert rig.yield_.count == int(np.sum(out[2] >= 1200.0))
 

@@ -49,6 +49,11 @@ IDX = {f.key: f.id - 1 for f in CATALOG}
 CRANK_STREAM = len(CATALOG)  # the stream after the 21 factors': the crank angle of the measurement
 N_STREAMS = len(CATALOG) + 1
 CRANK_STEPS = 256  # crank-angle steps per pin pitch
+# units per engine block (the engine's default is 65 536): ~40 ms of contact work per block (0.25 s
+# of elastic work), so that both cores share even a short run and the pilot block is not a run of
+# its own. Part of the numbers' contract (block b draws from spawn key (*stream, b)); the elastic
+# and transmission-error sources cut the same blocks, so that they draw the same units.
+BLOCK_UNITS = 4096
 ERROR_MODELS = ("long_wave", "independent")
 STAGE2_ORDER = ("disc_cumulative_pitch", "equidistance_modification", "moving_distance_modification", "disc_runout",
                 "pin_circle_radius", "pin_radius", "pin_hole_clearance", "pin_cumulative_pitch",
@@ -298,17 +303,22 @@ class ContactBlockSource:
     linear_idx: np.ndarray
     linear_sens: np.ndarray
     coef: np.ndarray  # mesh_table at the crank-angle steps
-    save_units: int = 0  # record the errors of the first units of block 0
-    saved: list = field(default_factory=list)  # the recorded rows (filled by block 0)
+    save_units: int = 0  # record the errors of the first units of the run
+    saved: dict = field(default_factory=dict)  # block -> its recorded rows (the first blocks)
     swap: tuple[int, ...] = ()  # factors drawn from ``swap_stream`` (Sobol redraws)
     swap_stream: tuple[int, ...] = ()
     outputs: tuple[Output, ...] = CONTACT_OUTPUTS
+    block_size: int = BLOCK_UNITS
+
+    def saves(self, b: int, n: int) -> int:
+        """How many of block b's first units are recorded (the run's first ``save_units``)."""
+        return min(max(self.save_units - b * self.block_size, 0), n)
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(3, n) outputs of block b (CONTACT_OUTPUTS)."""
         g = self.geometry
         out = np.empty((len(self.outputs), n))
-        nsave = min(self.save_units, n) if b == 0 else 0
+        nsave = self.saves(b, n)
         save = np.empty((nsave, save_width(g)))
         contact_block(block_streams(self.seed, b, self.stream, self.swap, self.swap_stream), n,
                       self.method == "box-muller", self.error_model == "long_wave", self.codes, self.params,
@@ -316,18 +326,18 @@ class ContactBlockSource:
                       np.array([IDX[k] for k in STAGE2_ORDER]), g.a_mm, g.rp_mm, g.zc, g.zp, g.discs,
                       g.pitch_radius_um, self.coef, out, save)
         if nsave:
-            self.saved[:] = list(save)
+            self.saved[b] = save
         return out
 
     def crank_angle_rad(self, step: int) -> float:
         return 2.0 * math.pi / self.geometry.zp * (step + 0.5) / self.coef.shape[0]
 
     def saved_units(self) -> list[tuple[Realization, float, float]]:
-        """The recorded units of block 0: (errors, linear stages [arcmin], cycloid stage [arcmin]
+        """The recorded units, in run order: (errors, linear stages [arcmin], cycloid stage [arcmin]
         as the kernel found it, or -preload [um] when preloaded)."""
         g = self.geometry
         out = []
-        for row in self.saved:
+        for row in (row for b in sorted(self.saved) for row in self.saved[b]):
             c = 4
             per_disc = np.asarray(row[c:c + 5 * g.discs]).reshape(g.discs, 5)
             c += 5 * g.discs
@@ -366,7 +376,7 @@ def contact_source(problem: Problem, method: str, seed: int, stream: tuple[int, 
     chis = 2.0 * math.pi / g.zp * (np.arange(CRANK_STEPS) + 0.5) / CRANK_STEPS
     return ContactBlockSource(method, seed, tuple(stream), g, model, codes, params, ppf, harmonics, linear_idx,
                               np.ascontiguousarray(problem.sensitivities_arcmin_per_um[linear_idx]),
-                              mesh_table(g, chis), int(save_units), [], tuple(swap), tuple(swap_stream))
+                              mesh_table(g, chis), int(save_units), {}, tuple(swap), tuple(swap_stream))
 
 
 @dataclass(frozen=True, eq=False)

@@ -28,7 +28,7 @@ from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.models.contact import stage_play, unit_gaps
 from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_units
 from rvbacklash.problem import Problem
-from rvbacklash.sampling.contact_source import (PRELOAD_OUTPUT, STAGE2_ORDER, ContactBlockSource, block_streams,
+from rvbacklash.sampling.contact_source import (BLOCK_UNITS, PRELOAD_OUTPUT, STAGE2_ORDER, ContactBlockSource, block_streams,
                                                 contact_source, draw_unit, save_unit, save_width, unit_scratch)
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
@@ -139,14 +139,14 @@ class ElasticBlockSource:
     model: ElasticModel
     outputs: tuple[Output, ...]
     save_units: int = 0
-    _saved: list = field(default_factory=list)
+    block_size: int = BLOCK_UNITS
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(4, n) outputs of block b (``elastic_outputs``)."""
         c = self.contact
         streams = block_streams(c.seed, b, c.stream, c.swap, c.swap_stream)
         out = np.empty((N_OUTPUTS, n))
-        keep = min(self.save_units, n) if b == 0 else 0
+        keep = min(max(self.save_units - b * self.block_size, 0), n)
         save = np.empty((keep, save_width(c.geometry)))
 
         def evaluate(start: int, units: UnitBatch) -> None:
@@ -155,19 +155,17 @@ class ElasticBlockSource:
         def draw(start: int, m: int) -> UnitBatch:
             return draw_units(c, streams, m, save[start:start + m] if start < keep else None)
 
-        # Drawing is serial (one stream per factor) and ~5x faster than evaluating, so the chunks
-        # are evaluated by a small pool while the next is drawn: the engine's first block (run
-        # alone) uses both cores too. Every chunk fills its own slice: the numbers do not depend
-        # on the pool.
+        # Drawing is serial (one stream per factor) and ~5x faster than evaluating: a block larger
+        # than a chunk (a direct call) is evaluated by a small pool while the next chunk is drawn.
+        # Every chunk fills its own slice: the numbers do not depend on the pool.
         draw_then_evaluate(n, CHUNK, EVAL_THREADS, draw, evaluate)
         if keep:
-            c.saved[:] = list(save)
-            self._saved[:] = c.saved_units()
+            c.saved[b] = save
         return out
 
     def saved_units(self) -> list:
         """The first ``save_units`` units of the run, as the contact model saves them."""
-        return list(self._saved)
+        return self.contact.saved_units()
 
 
 def elastic_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),

@@ -1,7 +1,8 @@
 """Streaming Monte-Carlo engine: seeded blocks, bounded memory, exact reproducibility.
 
 Reproducibility contract
-- The sample stream is cut into blocks of BLOCK_SIZE samples; block b draws from its own
+- The sample stream is cut into blocks of BLOCK_SIZE samples (or the source's ``block_size``:
+  the contact, elastic and transmission-error sources cut finer); block b draws from its own
   generator seeded by ``SeedSequence(seed, spawn_key=(*stream, b))``, so the samples do not depend
   on the chunk size (blocks per task) or the number of worker threads. The linear source's
   default method draws its normals inside compiled kernels (xoshiro256++ and the ziggurat,
@@ -25,6 +26,7 @@ the same blocks.
 from __future__ import annotations
 
 import math
+import threading
 import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
@@ -53,9 +55,15 @@ def block_generator(seed: int, block: int, stream: tuple[int, ...] = ()) -> Gene
     return Generator(PCG64(SeedSequence(seed, spawn_key=(*stream, block))))
 
 
-def block_sizes(samples: int) -> list[int]:
-    full, rest = divmod(samples, BLOCK_SIZE)
-    return [BLOCK_SIZE] * full + ([rest] if rest else [])
+def block_sizes(samples: int, block_size: int = BLOCK_SIZE) -> list[int]:
+    full, rest = divmod(samples, block_size)
+    return [block_size] * full + ([rest] if rest else [])
+
+
+def source_block_size(source) -> int:
+    """A source's block size: its ``block_size`` if it has one (the costly models cut their runs
+    finer, so that both cores work from the first blocks on), else BLOCK_SIZE."""
+    return int(getattr(source, "block_size", BLOCK_SIZE))
 
 
 @dataclass(frozen=True)
@@ -71,6 +79,9 @@ class Output:
 
 
 class BlockSource(Protocol):
+    """What the engine runs. A source may also set ``block_size`` (samples per block, default
+    BLOCK_SIZE): part of its numbers' contract, like the seed."""
+
     outputs: tuple[Output, ...]
 
     def block(self, b: int, n: int) -> np.ndarray:
@@ -240,105 +251,149 @@ def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | No
     limits_a = np.array(limits if limits is not None else [math.inf if o.upper_limit else -math.inf for o in outs],
                         dtype=float)
     upper = np.array([o.upper_limit for o in outs])
-    sizes = block_sizes(samples)
+    sizes = block_sizes(samples, source_block_size(source))
     with stop_requested() as stop:  # from here on, Ctrl-C stops the run after the blocks under way
         return _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
 
 
+def _task_ranges(n_blocks: int, workers: int, chunk_blocks: int) -> tuple[list[range], list[int]]:
+    """The blocks of each task, and the convergence points (blocks folded) they end on.
+
+    The points are 1, 2, 4, 8, ... blocks and the last; every task lies inside one stretch between
+    two points, with at least one task per worker in each (results do not depend on the split)."""
+    ends, e = [], 1
+    while e < n_blocks:
+        ends.append(e)
+        e *= 2
+    ends.append(n_blocks)
+    tasks, start = [], 0
+    for end in ends:
+        step = max(1, min(chunk_blocks, -(-(end - start) // max(1, workers))))
+        tasks += [range(a, min(a + step, end)) for a in range(start, end, step)]
+        start = end
+    return tasks, ends
+
+
 def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0) -> RawRun:
+    """No barrier anywhere: every thread draws its blocks while block 0 (the pilot, which fixes the
+    histogram ranges and the shifts) is drawn; a task histograms its blocks once the pilot is in.
+    Finished tasks are folded (moments and histograms) strictly in block order, a convergence
+    point is taken whenever the folded blocks reach one of its ends, and at most 2 x workers tasks
+    are in flight (memory)."""
     outs = source.outputs
     k = len(outs)
-    pilot = source.block(0, sizes[0])
-    ranges = [_histogram_range(pilot[c], outs[c].hint_range) for c in range(k)]
-    scales = [HIST_BINS / (hi - lo) for lo, hi in ranges]
-    shifts = []
-    for c in range(k):
-        valid = pilot[c][~np.isnan(pilot[c])]
-        shifts.append(float(np.mean(valid)) if valid.size else 0.5 * sum(ranges[c]))
+    tasks, ends = _task_ranges(len(sizes), workers, chunk_blocks)
+    pilot_in = threading.Event()
+    frame: dict = {}  # ranges, scales, shifts: set once from the pilot
+
+    def set_frame(pilot: np.ndarray) -> None:
+        ranges = [_histogram_range(pilot[c], outs[c].hint_range) for c in range(k)]
+        shifts = []
+        for c in range(k):
+            valid = pilot[c][~np.isnan(pilot[c])]
+            shifts.append(float(np.mean(valid)) if valid.size else 0.5 * sum(ranges[c]))
+        frame.update(ranges=ranges, scales=[HIST_BINS / (hi - lo) for lo, hi in ranges], shifts=shifts)
 
     def task(blocks: range):
-        """(per block: stats (k, N_STATS) and joint count; histograms (k, bins)) of some blocks."""
+        """(first block, per block: stats (k, N_STATS) and joint count; histograms (k, bins)) of some blocks."""
+        ys = []
+        for b in blocks:
+            y = source.block(b, sizes[b])
+            if b == 0:
+                try:
+                    set_frame(y)
+                finally:
+                    pilot_in.set()  # also on failure: no task waits forever
+            ys.append(y)
+        pilot_in.wait()
+        if not frame:
+            raise RuntimeError("the pilot block failed")
+        ranges, scales, shifts = frame["ranges"], frame["scales"], frame["shifts"]
         hist = np.zeros((k, HIST_BINS + 2), dtype=np.int64)
         per_block = []
-        for b in blocks:
-            y = pilot if b == 0 else source.block(b, sizes[b])
+        for b, y in zip(blocks, ys):
             stats = np.empty((k, N_STATS))
             for c in range(k):
                 kernels.accumulate(y[c], shifts[c], limits_a[c], upper[c], hist[c], ranges[c][0], scales[c], stats[c])
             joint = kernels.count_joint(y, limits_a, upper) if k > 1 else int(stats[0, 4])
-            per_block.append((b, stats, joint))
-        return per_block, hist
+            per_block.append((stats, joint))
+        return blocks, per_block, hist
 
     moments = [Moments() for _ in range(k)]
     hist_total = np.zeros((k, HIST_BINS + 2), dtype=np.int64)
-    done: dict[int, tuple[np.ndarray, int]] = {}
-    run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c], Histogram(*ranges[c], hist_total[c]))
-                  for c in range(k)], 0, 0)
+    done: dict[int, tuple] = {}  # first block of a finished task -> (blocks, per_block, hist)
+    run: RawRun | None = None
     next_block = 0
     finished_samples = 0
 
-    def fold() -> None:
-        """Merge the collected blocks in block order."""
+    def fold_task(blocks: range, per_block, hist) -> None:
         nonlocal next_block
-        while next_block in done:
-            stats, joint = done.pop(next_block)
+        for b, (stats, joint) in zip(blocks, per_block):
             for c in range(k):
-                moments[c].merge_block(shifts[c], stats[c])
-            run.samples += sizes[next_block]
+                moments[c].merge_block(frame["shifts"][c], stats[c])
+            run.samples += sizes[b]
             run.n_joint_pass += joint
-            next_block += 1
+        np.add(hist_total, hist, out=hist_total)
+        next_block = blocks.stop
+
+    def fold() -> None:
+        """Merge the finished tasks in block order; a convergence point at each end reached."""
+        nonlocal run
+        while next_block in done:
+            if run is None:  # the frame is known once block 0's task is done
+                run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c],
+                                        Histogram(*frame["ranges"][c], hist_total[c])) for c in range(k)], 0, 0)
+            fold_task(*done.pop(next_block))
+            if snapshot is not None and next_block in ends:
+                run.convergence.append(snapshot(run))
 
     def collect(fut: Future) -> None:
         nonlocal finished_samples
-        per_block, hist = fut.result()
-        np.add(hist_total, hist, out=hist_total)
-        for b, stats, joint in per_block:
-            done[b] = (stats, joint)
-            finished_samples += sizes[b]
+        blocks, per_block, hist = fut.result()
+        done[blocks.start] = (blocks, per_block, hist)
+        finished_samples += sum(sizes[b] for b in blocks)
 
-    # waves end at 1, 2, 4, 8, ... blocks: a convergence point at each
-    ends, e = [], 1
-    while e < len(sizes):
-        ends.append(e)
-        e *= 2
-    ends.append(len(sizes))
-    start = 0
     pending: set[Future] = set()
+    queue = iter(tasks)
+    in_flight = 2 * max(1, workers)
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
         try:
-            for end in ends:
-                # at least one task per worker in every wave (results do not depend on the split)
-                step = max(1, min(chunk_blocks, -(-(end - start) // max(1, workers))))
-                for a in range(start, end, step):
-                    pending.add(pool.submit(task, range(a, min(a + step, end))))
-                while pending and not stop.is_set():
-                    finished, _ = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-                    for fut in finished:
-                        collect(fut)
-                        pending.discard(fut)
-                    if finished and progress is not None:
-                        progress(finished_samples)
-                if stop.is_set():
+            for blocks in queue:
+                pending.add(pool.submit(task, blocks))
+                if len(pending) >= in_flight:
                     break
-                fold()
-                start = end
-                if snapshot is not None:
-                    run.convergence.append(snapshot(run))
+            while pending and not stop.is_set():
+                finished, _ = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    collect(fut)
+                    pending.discard(fut)
+                    nxt = next(queue, None)
+                    if nxt is not None and not stop.is_set():
+                        pending.add(pool.submit(task, nxt))
+                if finished:
+                    fold()
+                    if progress is not None:
+                        progress(finished_samples)
         except KeyboardInterrupt:  # raised by a callback, or outside the main thread
             stop.set()
-        if stop.is_set():
-            run.partial = True
+        if stop.is_set() or next(queue, None) is not None or pending:
+            stop.set()
             for fut in pending:
                 fut.cancel()
             for fut in pending:
                 if not fut.cancelled():
                     collect(fut)  # blocks already being worked on are finished and kept
             pending.clear()
-            for b in sorted(done):  # blocks finished out of order are folded too, in block order
-                stats, joint = done.pop(b)
-                for c in range(k):
-                    moments[c].merge_block(shifts[c], stats[c])
-                run.samples += sizes[b]
-                run.n_joint_pass += joint
+            fold()
+            if done and run is None:
+                run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c],
+                                        Histogram(*frame["ranges"][c], hist_total[c])) for c in range(k)], 0, 0)
+            for first in sorted(done):  # tasks finished out of order are folded too, in block order
+                fold_task(*done.pop(first))
+    if run is None:  # stopped before block 0 was in: nothing finished
+        ranges = [(0.0, 1.0)] * k
+        run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c], Histogram(*ranges[c], hist_total[c]))
+                      for c in range(k)], 0, 0)
+    run.partial = run.samples < sum(sizes)
     run.elapsed_s = time.perf_counter() - t0
     return run

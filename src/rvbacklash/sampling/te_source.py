@@ -30,7 +30,7 @@ from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scrat
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
 from rvbacklash.sampling.chunked import draw_then_evaluate
-from rvbacklash.sampling.contact_source import (IDX, N_STREAMS, STAGE2_ORDER, ContactBlockSource, _normal,
+from rvbacklash.sampling.contact_source import (BLOCK_UNITS, IDX, N_STREAMS, STAGE2_ORDER, ContactBlockSource, _normal,
                                                 block_streams, contact_source, draw_unit, unit_scratch)
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators, stream_states
@@ -129,6 +129,7 @@ class TransmissionBlockSource:
     table: tuple  # (theta, chi, mesh_table) of the positions
     ref_ccw_rad: np.ndarray  # the error-free unit's ccw flank at the positions
     outputs: tuple[Output, ...] = TE_OUTPUTS
+    block_size: int = BLOCK_UNITS  # the contact model's blocks: the same units
 
     def _draw(self, streams: np.ndarray, m: int) -> tuple:
         c, g = self.contact, self.contact.geometry
