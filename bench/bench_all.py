@@ -77,6 +77,8 @@ def command_row(args: list[str], target_s: float, skip: bool) -> Row:
     t = time.perf_counter()
     p = subprocess.run([sys.executable, "-m", "rvbacklash", *args, "--quiet"], capture_output=True, text=True)
     seconds = time.perf_counter() - t
+    if p.returncode == 2:  # a one-line answer such as "no design meets the target": the user waited for it
+        return Row(label, seconds, "s", target_s, False, f"wall time to the answer, exit 2: {p.stderr.strip()[-70:]}")
     if p.returncode:
         return Row(label, None, "s", target_s, False, f"exit {p.returncode}: {p.stderr.strip()[-80:]}")
     return Row(label, seconds, "s", target_s, False, "wall time, fresh process")

@@ -202,9 +202,10 @@ def curve_point(a, rg, zc, t):
 
 
 @nb.njit(nogil=True, cache=True)
-def signed_distance_um(a, rg, zc, qx, qy, t0):
-    """Signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve, positive away
-    from the disc (Newton on (C(t) - q) . C'(t) = 0 from t0), as PinCentreCurve.signed_distance."""
+def curve_distance(a, rg, zc, qx, qy, t0):
+    """(signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve, positive away
+    from the disc; the curve parameter t of its foot): Newton on (C(t) - q) . C'(t) = 0 from t0,
+    as PinCentreCurve.signed_distance. A start from a nearby point's foot converges in 1-2 steps."""
     t = t0
     for _ in range(12):
         x, y, dx, dy, ddx, ddy = curve_point(a, rg, zc, t)
@@ -219,7 +220,23 @@ def signed_distance_um(a, rg, zc, qx, qy, t0):
     nx, ny = dy, -dx
     if nx * x + ny * y < 0:  # outward: away from the disc centre
         nx, ny = -nx, -ny
-    return ((qx - x) * nx + (qy - y) * ny) / math.sqrt(nx * nx + ny * ny) * 1e3
+    return ((qx - x) * nx + (qy - y) * ny) / math.sqrt(nx * nx + ny * ny) * 1e3, t
+
+
+@nb.njit(nogil=True, cache=True)
+def signed_distance_um(a, rg, zc, qx, qy, t0):
+    """Signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve (``curve_distance``)."""
+    return curve_distance(a, rg, zc, qx, qy, t0)[0]
+
+
+@nb.njit(nogil=True, cache=True)
+def turned_gap(px, py, beta, base_um, a, rg, zc, t0):
+    """(gap [um], foot parameter) of a pin at (px, py) in its disc's frame [mm] once the disc has
+    turned by beta [rad]: base_um (eq_d - rho_j + cl_j / 2) plus its signed distance from the
+    curve of generating radius rg [mm] (the disc's modification included)."""
+    cb, sb = math.cos(beta), math.sin(beta)
+    dist, t = curve_distance(a, rg, zc, cb * px + sb * py, -sb * px + cb * py, t0)
+    return base_um + dist, t
 
 
 @nb.njit(nogil=True, cache=True)
@@ -228,9 +245,7 @@ def exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, 
     in the disc frame, its signed distance from the modified pin-centre curve (the compiled form
     of ``exact_gaps_um``, one pin at a time)."""
     px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
-    cb, sb = math.cos(beta), math.sin(beta)
-    qx, qy = cb * px + sb * py, -sb * px + cb * py
-    return eq[d] + signed_distance_um(a, rp + md[d] * 1e-3, zc, qx, qy, t0) - rho[j] + 0.5 * cl[j]
+    return turned_gap(px, py, beta, eq[d] - rho[j] + 0.5 * cl[j], a, rp + md[d] * 1e-3, zc, t0)[0]
 
 
 @nb.njit(nogil=True, cache=True)
@@ -487,35 +502,35 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
         # (a tip pin's osculating circle can put its estimate early)
         best = np.inf
         bd, bj = -1, -1
+        bpx, bpy, bbase, bt = 0.0, 0.0, 0.0, 0.0  # the best pin's frame position, base and foot
         for rnd in range(2):
             ref = first if rnd == 0 else best
             for d in range(discs):
+                rg = rp + md[d] * 1e-3
                 for j in range(zp):
                     x = est[d, j]
                     band = BAND_WIDE if coef[d, j][RHO] < RHO_TIGHT_MM else BAND_NARROW
                     if x > ref * (1.0 + band) or (rnd == 1 and x <= first * (1.0 + band)):
                         continue
-                    t0 = coef[d, j][T0]
-                    f1 = exact_gap_um(j, d, bc + sgn * x, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
-                                      ux, uy, da, t0)
+                    px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
+                    base = eq[d] - rho[j] + 0.5 * cl[j]
+                    f1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[d, j][T0])
                     h = 1e-7 + 1e-3 * x
-                    f2 = exact_gap_um(j, d, bc + sgn * (x + h), chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq,
-                                      md, ux, uy, da, t0)
+                    f2, _ = turned_gap(px, py, bc + sgn * (x + h), base, a, rg, zc, t1)
                     if f2 != f1:
                         x -= f1 * h / (f2 - f1)
                     if x < best:
                         best, bd, bj = x, d, j
+                        bpx, bpy, bbase, bt = px, py, base, t1
             if not best > first:
                 break
+        rg = rp + md[bd] * 1e-3
         for _ in range(3):  # the first of them to full precision
-            t0 = coef[bd, bj][T0]
-            f1 = exact_gap_um(bj, bd, bc + sgn * best, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md,
-                              ux, uy, da, t0)
+            f1, bt = turned_gap(bpx, bpy, bc + sgn * best, bbase, a, rg, zc, bt)
             if abs(f1) < 1e-9:
                 break
             h = 1e-7 + 1e-4 * best
-            f2 = exact_gap_um(bj, bd, bc + sgn * (best + h), chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq,
-                              md, ux, uy, da, t0)
+            f2, _ = turned_gap(bpx, bpy, bc + sgn * (best + h), bbase, a, rg, zc, bt)
             if f2 == f1:
                 break
             best -= f1 * h / (f2 - f1)

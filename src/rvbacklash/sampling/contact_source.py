@@ -39,7 +39,7 @@ from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import Realization, mesh_table, stage_play
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.engine import Output
-from rvbacklash.sampling.fast_normals import (states_from_generators, stream_normal, stream_states,
+from rvbacklash.sampling.fast_normals import (states_from_generators, stream_normal, stream_normals, stream_states,
                                               stream_uniform)
 from rvbacklash.sampling.kernels import box_muller_normal
 from rvbacklash.sampling.part_errors import calibrate, harmonic_deviations
@@ -128,13 +128,27 @@ def draw(streams, f, code, p0, p1, p2, p3, bm, table):
 
 
 @nb.njit(nogil=True, cache=True)
+def draw_many(streams, f, code, p0, p1, p2, p3, bm, table, out, m):
+    """out[:m] <- m draws of a factor's marginal from stream f (``draw``, in order): normal and
+    truncated-normal laws in one pass with the stream's state in registers (stream_normals)."""
+    if not bm and code == 1:
+        stream_normals(streams, f, p0, p1, -np.inf, np.inf, out, m)
+    elif not bm and code == 3:
+        stream_normals(streams, f, p0, p1, p2, p3, out, m)
+    else:
+        for i in range(m):
+            out[i] = draw(streams, f, code, p0, p1, p2, p3, bm, table)
+
+
+@nb.njit(nogil=True, cache=True)
 def unit_scratch(zp, zc, discs):
     """The arrays one unit's errors are drawn into: dr, dt, rho, cl (z_p), teeth (discs, z_c), eq,
-    md, ux, uy, da (discs), and the scratch of draw_unit and stage_play."""
+    md, ux, uy, da (discs), and the scratch of draw_unit and stage_play (the last: a stream's normals)."""
     return (np.empty(zp), np.empty(zp), np.empty(zp), np.empty(zp), np.empty((discs, zc)), np.empty(discs),
             np.empty(discs), np.empty(discs), np.empty(discs), np.empty(discs),
             np.empty(zp), np.empty(zp), np.empty(zc), np.empty(zc), np.zeros(zc), harmonics_trig(zp),
-            harmonics_trig(zc), np.empty((discs, zp)), np.empty((discs, zp)), np.empty((4, discs, zp)), np.empty(7))
+            harmonics_trig(zc), np.empty((discs, zp)), np.empty((discs, zp)), np.empty((4, discs, zp)), np.empty(7),
+            np.empty(4 + 2 * max(zp, zc)))
 
 
 @nb.njit(nogil=True, cache=True)
@@ -157,6 +171,7 @@ def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_i
     ``harmonics`` (2, 4) the sigmas [first, second, element, radial element] of the disc teeth
     and of the pin holes (part_errors). Each factor draws from its own stream."""
     dr, dt, rho, cl, teeth, eq, md, ux, uy, da, s_p, q_p, s_c, tr, zeros_z, trig_p, trig_c = sc[:17]
+    z = sc[21]
     # each stage-2 factor's stream, law and table, hoisted out of the loops (STAGE2_ORDER)
     g_pitch, c_pitch, p_pitch, t_pitch = idx[0], codes[idx[0]], params[idx[0]], tables[idx[0]]
     g_eq, c_eq, p_eq, t_eq = idx[1], codes[idx[1]], params[idx[1]], tables[idx[1]]
@@ -180,23 +195,22 @@ def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_i
     eq0 = draw(streams, g_eq, c_eq, p_eq[0], p_eq[1], p_eq[2], p_eq[3], bm, t_eq)
     md0 = draw(streams, g_md, c_md, p_md[0], p_md[1], p_md[2], p_md[3], bm, t_md)
     # the pins and their holes
+    # each stream's draws in one pass (the factors' streams are independent: their order across
+    # streams does not change a number)
     if long_wave:
         common = draw(streams, g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
-        hx, hy = hp[0] * _normal(streams, g_t, bm), hp[0] * _normal(streams, g_t, bm)
-        cx, cy = hp[1] * _normal(streams, g_t, bm), hp[1] * _normal(streams, g_t, bm)
+        draw_many(streams, g_t, 1, 0.0, 1.0, 0.0, 0.0, bm, t_t, z, 4 + 2 * zp)  # hx, hy, cx, cy, (s_j, q_j)
         for j in range(zp):
-            s_p[j] = hp[2] * _normal(streams, g_t, bm)
-            q_p[j] = hp[3] * _normal(streams, g_t, bm)
-        harmonic_deviations(hx, hy, cx, cy, s_p, q_p, trig_p, dt, dr)
+            s_p[j] = hp[2] * z[4 + 2 * j]
+            q_p[j] = hp[3] * z[5 + 2 * j]
+        harmonic_deviations(hp[0] * z[0], hp[0] * z[1], hp[1] * z[2], hp[1] * z[3], s_p, q_p, trig_p, dt, dr)
         for j in range(zp):
             dr[j] += common
     else:
-        for j in range(zp):
-            dr[j] = draw(streams, g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad)
-            dt[j] = draw(streams, g_t, c_t, p_t[0], p_t[1], p_t[2], p_t[3], bm, t_t)
-    for j in range(zp):
-        rho[j] = draw(streams, g_rho, c_rho, p_rho[0], p_rho[1], p_rho[2], p_rho[3], bm, t_rho)
-        cl[j] = draw(streams, g_cl, c_cl, p_cl[0], p_cl[1], p_cl[2], p_cl[3], bm, t_cl)
+        draw_many(streams, g_rad, c_rad, p_rad[0], p_rad[1], p_rad[2], p_rad[3], bm, t_rad, dr, zp)
+        draw_many(streams, g_t, c_t, p_t[0], p_t[1], p_t[2], p_t[3], bm, t_t, dt, zp)
+    draw_many(streams, g_rho, c_rho, p_rho[0], p_rho[1], p_rho[2], p_rho[3], bm, t_rho, rho, zp)
+    draw_many(streams, g_cl, c_cl, p_cl[0], p_cl[1], p_cl[2], p_cl[3], bm, t_cl, cl, zp)
     # the discs
     for d in range(discs):
         eq[d] = eq0 + draw(streams, g_eqe, c_eqe, p_eqe[0], p_eqe[1], p_eqe[2], p_eqe[3], bm, t_eqe)
@@ -205,14 +219,14 @@ def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_i
         uy[d] = 0.5 * draw(streams, g_ro, c_ro, p_ro[0], p_ro[1], p_ro[2], p_ro[3], bm, t_ro)
         da[d] = draw(streams, g_da, c_da, p_da[0], p_da[1], p_da[2], p_da[3], bm, t_da)
         if long_wave:
-            hx, hy = hd[0] * _normal(streams, g_pitch, bm), hd[0] * _normal(streams, g_pitch, bm)
-            cx, cy = hd[1] * _normal(streams, g_pitch, bm), hd[1] * _normal(streams, g_pitch, bm)
+            draw_many(streams, g_pitch, 1, 0.0, 1.0, 0.0, 0.0, bm, t_pitch, z, 4 + zc)  # hx, hy, cx, cy, s_k
             for k in range(zc):
-                s_c[k] = hd[2] * _normal(streams, g_pitch, bm)
-            harmonic_deviations(hx, hy, cx, cy, s_c, zeros_z, trig_c, teeth[d], tr)
+                s_c[k] = hd[2] * z[4 + k]
+            harmonic_deviations(hd[0] * z[0], hd[0] * z[1], hd[1] * z[2], hd[1] * z[3], s_c, zeros_z, trig_c, teeth[d],
+                                tr)
         else:
-            for k in range(zc):
-                teeth[d, k] = draw(streams, g_pitch, c_pitch, p_pitch[0], p_pitch[1], p_pitch[2], p_pitch[3], bm, t_pitch)
+            draw_many(streams, g_pitch, c_pitch, p_pitch[0], p_pitch[1], p_pitch[2], p_pitch[3], bm, t_pitch, teeth[d],
+                      zc)
     return step, lin, last, eq0, md0
 
 

@@ -264,6 +264,22 @@ def stream_normal(states, f):
     return z
 
 
+@nb.njit(nogil=True, cache=True)
+def stream_normals(states, f, p0, p1, lo, hi, out, m):
+    """out[:m] <- p0 + p1 z from stream f, each z redrawn until the value lies in [lo, hi] (+-inf:
+    a plain normal): the same numbers as m calls of ``stream_normal``, with the state held in
+    registers through the loop (a stream's per-element draws in one pass)."""
+    s0, s1, s2, s3 = states[f, 0], states[f, 1], states[f, 2], states[f, 3]
+    for i in range(m):
+        while True:
+            z, s0, s1, s2, s3 = _normal(s0, s1, s2, s3)
+            x = p0 + p1 * z
+            if lo <= x <= hi:
+                break
+        out[i] = x
+    states[f, 0], states[f, 1], states[f, 2], states[f, 3] = s0, s1, s2, s3
+
+
 @nb.njit(nogil=True, inline="always")
 def stream_uniform(states, f):
     """A uniform in [0, 1) from stream f of ``states`` (advanced in place)."""
