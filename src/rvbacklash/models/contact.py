@@ -429,7 +429,7 @@ def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux
 
 @nb.njit(nogil=True, cache=True)
 def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
-               out):
+               out, play=True):
     """Play of the cycloid stage of one unit; out = [play_ccw, play_cw, preload_um, pin_ccw, disc_ccw,
     pin_cw, disc_cw] (plays [rad] from the assembled position; NaN and pin -1 when preloaded).
 
@@ -450,7 +450,8 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
     root of the pins' gaps; the pins within a band of it (BAND_NARROW, BAND_WIDE near the tips)
     are checked on the exact curve (exact_gap_um) and the first of them solved exactly, then the
     pins within the band of that refined contact are checked again (the osculating estimate can
-    be off by more than the band near a tip).
+    be off by more than the band near a tip). ``play`` False: a free unit stops there (out[0:2]
+    = 0, pins -1): the elastic model reads the gaps, the levers and the preload only.
     """
     qx_, qy_, est, tgt = work[0], work[1], work[2], work[3]
     lo, hi, flat = unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever,
@@ -473,6 +474,10 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
             return
         bc = beta
     out[2] = 0.0
+    if not play:
+        out[0] = 0.0
+        out[1] = 0.0
+        return
     for side in range(2):  # 0: counter-clockwise (beta > 0), 1: clockwise
         sgn = 1.0 if side == 0 else -1.0
         first_lin = np.inf  # the linear estimate screens out the pins far from contact

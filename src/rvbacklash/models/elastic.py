@@ -408,7 +408,7 @@ def set_bounds(gaps, levers, m, out):
 
 
 @nb.njit(nogil=True, cache=True)
-def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess):
+def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess, rtol=1e-11):
     """The coordinate x at which the contact set carries ``load`` (its sign: the direction).
     load = 0: the edge of the free band on ``side`` (+1: the positive edge), or the preloaded
     equilibrium. ``guess``: a start inside the bracket (NaN: none).
@@ -420,7 +420,7 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
     contacts' forces are refined along (one ``law_step`` per evaluation); the bracket moves only
     where the load's error bound cannot flip the sign of the residual, else the forces settle in
     place. Stops when the residual and its error bound are below 1e-11 of the load (or of the
-    contacts' loads, at a preloaded equilibrium)."""
+    contacts' loads, at a preloaded equilibrium; ``rtol``)."""
     hi, lo = bounds[0], bounds[2]
     if load == 0.0:
         if lo <= hi:
@@ -462,7 +462,7 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
     for _ in range(300):
         g, dg, err, gabs = set_load(x, gaps, levers, law_a, b, n, scale, m, work)
         f = g - load
-        ftol = 1e-11 * max(abs(load), gabs)
+        ftol = rtol * max(abs(load), gabs)
         if err <= ftol and abs(f) <= ftol:
             return x
         trusted = abs(f) > 2.0 * err  # the sign of f is right: the bracket may move
@@ -550,8 +550,12 @@ def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
         sa[q] = pin_law_a(pin_phase(idx[q], chi, zp, discs), c)
     sb = np.empty(5)
     set_bounds(sg, sl, cnt, sb)
-    x = solve_set(sg, sl, sa, c.law_b, c.law_n, 1e-6, cnt, sb, np.zeros(cnt), load, 1.0, np.nan)
-    return max(x, bounds[2]) if load > 0.0 else min(x, bounds[0])
+    # a bound needs no 1e-11: solved to 1e-6 of the load, then moved on by 1e-3 of its travel from
+    # the set's first contact (a load error of 1e-6 moves a stiffening set's root by < 1e-6 of it)
+    x = solve_set(sg, sl, sa, c.law_b, c.law_n, 1e-6, cnt, sb, np.zeros(cnt), load, 1.0, np.nan, 1e-6)
+    if load > 0.0:
+        return max(x + 1e-3 * abs(x - sb[0]), bounds[2])
+    return min(x - 1e-3 * abs(x - sb[2]), bounds[0])
 
 
 @nb.njit(nogil=True, cache=True)

@@ -25,7 +25,7 @@ import numpy as np
 from rvbacklash._numba import nb
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
-from rvbacklash.models.contact import stage_play, unit_gaps
+from rvbacklash.models.contact import stage_play
 from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_units
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.contact_source import (BLOCK_UNITS, PRELOAD_OUTPUT, STAGE2_ORDER, ContactBlockSource, block_streams,
@@ -83,20 +83,20 @@ def draw_units_kernel(streams, n, long_wave, codes, params, tables, harmonics, l
     -preload [um])."""
     sc = unit_scratch(zp, zc, discs)
     dr, dt, rho, cl, teeth, eq, md, ux, uy, da = sc[:10]
-    gap, lever, work, res = sc[17], sc[18], sc[19], sc[20]
+    work, res = sc[19], sc[20]
     steps = coef.shape[0]
     sens_crank = linear_sens[linear_sens.size - 1]
     for s in range(n):
         step, lin, crank, eq0, md0 = draw_unit(streams, False, long_wave, codes, params, tables, harmonics, linear_idx,
                                                linear_sens, idx, zp, zc, discs, steps, sc)
         chi = 2.0 * math.pi / zp * (step + 0.5) / steps
-        unit_gaps(coef[step], a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap_out[s],
-                  lever_out[s], work)
         chi_out[s] = chi
         inv_out[s] = max(lin - sens_crank * crank, 0.0) / ARCMIN_PER_RAD
         crank_out[s] = crank
+        # the gaps and levers (unit_gaps) land in the unit's rows; the rigid play of a free unit is
+        # not needed (only by a recorded unit)
         stage_play(coef[step], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
-                   gap, lever, work, res)
+                   gap_out[s], lever_out[s], work, res, s < save.shape[0])
         preload_out[s] = res[2] if math.isnan(res[0]) else np.nan
         if s < save.shape[0]:
             stage = -res[2] if math.isnan(res[0]) else (res[0] + res[1]) * ARCMIN_PER_RAD
