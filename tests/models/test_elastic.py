@@ -396,3 +396,24 @@ def test_the_model_needs_an_elastic_table_and_a_face_width(sun2014):
     with pytest.raises(InputError) as e:
         el.elastic_model(prepare(d))
     assert e.value.field == "first_stage.face_width_mm"
+
+
+def test_the_pin_law_table_holds_each_units_laws(problem, model):
+    """The design's table of contact laws (one row per crank-angle step the contact model draws)
+    is the per-unit computation exactly, and a unit at another angle gets its laws computed."""
+    from rvbacklash.sampling.contact_source import CRANK_STEPS
+    from rvbacklash.sampling.elastic_source import design_pin_laws
+
+    g = model.geometry
+    table = design_pin_laws(model)
+    assert table.shape == (CRANK_STEPS, g.discs * g.zp)
+    law = np.empty((g.discs, g.zp))
+    for s in (0, 77, CRANK_STEPS - 1):
+        chi = 2.0 * math.pi / g.zp * (s + 0.5) / CRANK_STEPS  # as contact_source draws it
+        el.fill_pin_law(chi, model.chain, law)
+        assert np.array_equal(el.unit_pin_laws(chi, model.chain, g.zp, g.discs, table), law.ravel())
+        assert np.shares_memory(el.unit_pin_laws(chi, model.chain, g.zp, g.discs, table), table)  # the row itself
+    off = 0.123  # not on the grid: computed
+    el.fill_pin_law(off, model.chain, law)
+    got = el.unit_pin_laws(off, model.chain, g.zp, g.discs, table)
+    assert np.array_equal(got, law.ravel()) and not np.shares_memory(got, table)

@@ -519,7 +519,35 @@ def fill_pin_law(chi, c, out):
 
 
 @nb.njit(nogil=True, cache=True)
-def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
+def pin_law_table(c, zp, discs, steps):
+    """pin_law_a of every pin (flat index d z_p + j) at the crank angles the contact model draws,
+    chi_s = 2 pi / z_p (s + 1/2) / steps (contact_source.CRANK_STEPS): (steps, discs z_p), the
+    same numbers as computed unit by unit, once per design."""
+    out = np.empty((steps, discs * zp))
+    for s in range(steps):
+        chi = 2.0 * math.pi / zp * (s + 0.5) / steps
+        for i in range(discs * zp):
+            out[s, i] = pin_law_a(pin_phase(i, chi, zp, discs), c)
+    return out
+
+
+@nb.njit(nogil=True, cache=True)
+def unit_pin_laws(chi, c, zp, discs, table):
+    """pin_law_a of every pin (flat) of a unit at crank angle chi: its row of ``pin_law_table``
+    when chi is one of the table's angles (exactly), else computed."""
+    if table is not None:
+        steps = table.shape[0]
+        s = int(math.floor(chi * zp * steps / (2.0 * math.pi)))
+        if 0 <= s < steps and 2.0 * math.pi / zp * (s + 0.5) / steps == chi:
+            return table[s]
+    out = np.empty(discs * zp)
+    for i in range(discs * zp):
+        out[i] = pin_law_a(pin_phase(i, chi, zp, discs), c)
+    return out
+
+
+@nb.njit(nogil=True, cache=True)
+def _pins_bound(g, lev, laws, bounds, c, load):
     """A rotation beyond the one at which the pins carry ``load`` (+-T_R): the BOUND_CONTACTS pins
     with the largest levers on the loaded side carry it alone at x_S; beyond the other side's last
     release nothing pulls back; so max(x_S, lo) (load > 0) bounds the rotation."""
@@ -547,7 +575,7 @@ def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
     for q in range(cnt):
         sg[q] = g[idx[q]]
         sl[q] = lev[idx[q]]
-        sa[q] = pin_law_a(pin_phase(idx[q], chi, zp, discs), c)
+        sa[q] = laws[idx[q]]
     sb = np.empty(5)
     set_bounds(sg, sl, cnt, sb)
     # a bound needs no 1e-11: solved to 1e-6 of the load, then moved on by 1e-3 of its travel from
@@ -559,7 +587,7 @@ def _pins_bound(g, lev, chi, zp, discs, bounds, c, load):
 
 
 @nb.njit(nogil=True, cache=True)
-def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
+def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     """The unit's pin contacts referred to the output (levers / k), with their contact-law
     coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, shifted
     gaps, shifted bounds).
@@ -569,17 +597,19 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
     along the eccentric (``compliance.pin_radial_closure``), its disc, and scratch: yw (7, discs)
     holds the discs' translations [um] (row 0), sums (rows 1-4) and the last translations solved
     under a positive and a negative load (rows 5, 6: the next solve's start), then scratch for
-    the gaps shifted by the translations and their bounds (``solve_pins``)."""
+    the gaps shifted by the translations and their bounds (``solve_pins``). ``table``: the
+    design's ``pin_law_table`` (None: each law computed)."""
     discs, zp = gap_um.shape
     g = gap_um.ravel()
     lev = lever_um_per_rad.ravel() / c.lever_factor
     m = g.size
     bounds = np.empty(5)
     set_bounds(g, lev, m, bounds)
+    laws = unit_pin_laws(chi, c, zp, discs, table)
     x_hi, x_lo = np.inf, -np.inf
     if not every:
-        x_hi = _pins_bound(g, lev, chi, zp, discs, bounds, c, c.rated_torque_nm)
-        x_lo = _pins_bound(g, lev, chi, zp, discs, bounds, c, -c.rated_torque_nm)
+        x_hi = _pins_bound(g, lev, laws, bounds, c, c.rated_torque_nm)
+        x_lo = _pins_bound(g, lev, laws, bounds, c, -c.rated_torque_nm)
     keep = 0
     gk = np.empty(m)
     lk = np.empty(m)
@@ -591,7 +621,7 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every):
             phi = pin_phase(j, chi, zp, discs)
             gk[keep] = g[j]
             lk[keep] = lev[j]
-            ak[keep] = pin_law_a(phi, c)
+            ak[keep] = laws[j]
             rk[keep] = cm.pin_radial_closure(phi, c.k1)
             dk[keep] = j // zp
             keep += 1
@@ -841,7 +871,7 @@ def loop_figures(pins, rollers, support, backlash1_rad, c, state, out):
 
 @nb.njit(nogil=True, cache=True)
 def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out,
-                    support=None):
+                    support=None, table=None):
     """The test-bench figures of one unit (``loop_figures``) from its arrays:
 
     gap_um[d, j]: free gap of pin j to disc d at zero rotation, normal to the profile [um]
@@ -851,8 +881,9 @@ def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, cr
     contact); involute_backlash_rad: the involute stage's backlash at the output [rad] (negative
     read as 0); crank_clearance_um: radial clearance G_r of the crank needle bearings [um]
     (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i); support: a
-    support set (``prepare_support``) shared by a batch of units of the design (None: its own)."""
-    pins = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c, c.radial_stiffness_n_per_um < np.inf)
+    support set (``prepare_support``) shared by a batch of units of the design (None: its own);
+    table: the design's ``pin_law_table`` (None: the laws computed)."""
+    pins = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c, c.radial_stiffness_n_per_um < np.inf, table)
     loop_figures(pins, prepare_rollers(crank_clearance_um, roller_cos, c),
                  prepare_support(c) if support is None else support, max(involute_backlash_rad, 0.0), c, new_state(),
                  out)
@@ -865,14 +896,16 @@ def new_state():
 
 
 @nb.njit(nogil=True, cache=True)
-def evaluate_units(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out):
+def evaluate_units(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out,
+                   table=None):
     """``unit_hysteresis`` of n units: gap_um and lever_um_per_rad (n, discs, z_p), the rest (n,);
-    out (3, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin]."""
+    out (3, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin]; table: the
+    design's ``pin_law_table`` (None: each unit's laws computed)."""
     fig = np.empty(N_FIGURES)
     support = prepare_support(c)  # the same for every unit: its solves are shared through its memo
     for i in range(gap_um.shape[0]):
         unit_hysteresis(gap_um[i], lever_um_per_rad[i], chi_rad[i], involute_backlash_rad[i], crank_clearance_um[i],
-                        c, roller_cos, fig, support)
+                        c, roller_cos, fig, support, table)
         out[0, i] = fig[LOST_MOTION]
         out[1, i] = fig[BACKLASH]
         out[2, i] = fig[RIGIDITY]

@@ -26,10 +26,11 @@ from rvbacklash._numba import nb
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.models.contact import stage_play
-from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_units
+from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_units, pin_law_table
 from rvbacklash.problem import Problem
-from rvbacklash.sampling.contact_source import (BLOCK_UNITS, PRELOAD_OUTPUT, STAGE2_ORDER, ContactBlockSource, block_streams,
-                                                contact_source, draw_unit, save_unit, save_width, unit_scratch)
+from rvbacklash.sampling.contact_source import (BLOCK_UNITS, CRANK_STEPS, PRELOAD_OUTPUT, STAGE2_ORDER,
+                                                ContactBlockSource, block_streams, contact_source, draw_unit,
+                                                save_unit, save_width, unit_scratch)
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators
@@ -120,12 +121,13 @@ def draw_units(source: ContactBlockSource, streams: tuple, n: int, save: np.ndar
     return UnitBatch(gap, lever, chi, inv, crank, preload)
 
 
-def evaluate_batch(model: ElasticModel, units: UnitBatch) -> np.ndarray:
+def evaluate_batch(model: ElasticModel, units: UnitBatch, pin_laws: np.ndarray | None = None) -> np.ndarray:
     """(4, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin], preload [um] (NaN
-    when free) of every unit."""
+    when free) of every unit. ``pin_laws``: the design's ``pin_law_table`` at the contact model's
+    crank angles (``design_pin_laws``; None: each unit's contact laws computed, the same numbers)."""
     out = np.empty((N_OUTPUTS, units.chi_rad.size))
     evaluate_units(units.gap_um, units.lever_um_per_rad, units.chi_rad, units.involute_backlash_rad,
-                   units.crank_clearance_um, model.chain, model.roller_cos, out[:3])
+                   units.crank_clearance_um, model.chain, model.roller_cos, out[:3], pin_laws)
     out[3] = units.preload_um
     return out
 
@@ -140,6 +142,7 @@ class ElasticBlockSource:
     outputs: tuple[Output, ...]
     save_units: int = 0
     block_size: int = BLOCK_UNITS
+    pin_laws: np.ndarray | None = None  # design_pin_laws: every pin's contact law at every crank step
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(4, n) outputs of block b (``elastic_outputs``)."""
@@ -150,7 +153,7 @@ class ElasticBlockSource:
         save = np.empty((keep, save_width(c.geometry)))
 
         def evaluate(start: int, units: UnitBatch) -> None:
-            out[:, start:start + units.chi_rad.size] = evaluate_batch(self.model, units)
+            out[:, start:start + units.chi_rad.size] = evaluate_batch(self.model, units, self.pin_laws)
 
         def draw(start: int, m: int) -> UnitBatch:
             return draw_units(c, streams, m, save[start:start + m] if start < keep else None)
@@ -176,8 +179,15 @@ def elastic_source(problem: Problem, method: str, seed: int, stream: tuple[int, 
         raise InputError("correlation", "given", "the elastic model draws independent per-pin errors; "
                                                  "remove [correlation] or use the linear model")
     model = elastic_model(problem)
-    return ElasticBlockSource(contact_source(problem, "default", seed, stream), model, elastic_outputs(model),
-                              int(save_units))
+    contact = contact_source(problem, "default", seed, stream)
+    return ElasticBlockSource(contact, model, elastic_outputs(model), int(save_units),
+                              pin_laws=design_pin_laws(model))
+
+
+def design_pin_laws(model: ElasticModel) -> np.ndarray:
+    """Every pin's contact law at each crank-angle step the contact model draws (pin_law_table:
+    CRANK_STEPS x pins, ~20 000 laws computed once instead of ~60 per unit)."""
+    return pin_law_table(model.chain, model.geometry.zp, model.geometry.discs, CRANK_STEPS)
 
 
 def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = (1,)) -> UnitBatch:
@@ -204,7 +214,8 @@ class ElasticStreams:
         out = np.empty((N_OUTPUTS, n))
         for start in range(0, n, CHUNK):
             m = min(CHUNK, n - start)
-            out[:, start:start + m] = evaluate_batch(self.source.model, draw_units(self.source.contact, streams, m))
+            out[:, start:start + m] = evaluate_batch(self.source.model, draw_units(self.source.contact, streams, m),
+                                                     self.source.pin_laws)
         return out
 
 

@@ -260,7 +260,8 @@ def _task_ranges(n_blocks: int, workers: int, chunk_blocks: int) -> tuple[list[r
     """The blocks of each task, and the convergence points (blocks folded) they end on.
 
     The points are 1, 2, 4, 8, ... blocks and the last; every task lies inside one stretch between
-    two points, with at least one task per worker in each (results do not depend on the split)."""
+    two points, with at least two tasks per worker in each where it has the blocks (the threads
+    then finish a stretch together; results do not depend on the split)."""
     ends, e = [], 1
     while e < n_blocks:
         ends.append(e)
@@ -268,7 +269,7 @@ def _task_ranges(n_blocks: int, workers: int, chunk_blocks: int) -> tuple[list[r
     ends.append(n_blocks)
     tasks, start = [], 0
     for end in ends:
-        step = max(1, min(chunk_blocks, -(-(end - start) // max(1, workers))))
+        step = max(1, min(chunk_blocks, -(-(end - start) // (2 * max(1, workers)))))
         tasks += [range(a, min(a + step, end)) for a in range(start, end, step)]
         start = end
     return tasks, ends
