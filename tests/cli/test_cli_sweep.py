@@ -139,7 +139,9 @@ def test_ctrl_c_keeps_the_finished_points_and_the_next_run_finishes(tmp_path):
     """A real SIGINT to the command: exit 130, the finished points kept and marked partial; the
     same command again runs only the rest (no point lost or repeated)."""
     sweep = tmp_path / "long.toml"
-    sweep.write_text(SWEEP.format(samples=500_000, stop=14, count=8))
+    # points long enough (~0.1-0.2 s each on 2 cores) that the signal lands while the sweep runs:
+    # at 500 000 samples the whole sweep could end between two polls of the points written
+    sweep.write_text(SWEEP.format(samples=5_000_000, stop=14, count=8))
     out = tmp_path / "out"
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     proc = subprocess.Popen([sys.executable, "-m", "rvbacklash", "sweep", str(sweep), "--out", str(out),
