@@ -277,3 +277,17 @@ def test_allocation_buys_transmission_error_with_the_grades():
     with pytest.raises(InputError) as e:
         allocate(p, model="contact", spec_arcmin=3.0, yield_target=0.6, samples=1000, spec_te_arcsec=-1.0)
     assert e.value.field == "spec_te_arcsec"
+
+
+def test_a_search_whose_candidates_fail_verification_says_so():
+    """The one-line answer when the cheapest feasible candidates all fail on the independent
+    stream names that, and the first one's yield there (not only the best yield of the search)."""
+    # rv80e, contact model, 1000 units per candidate: the search ends on candidates at the margin
+    # of 90 %, and the three cheapest fall below it on stream (1,) (seed 0; issue 19's numbers)
+    import rvbacklash as rb
+
+    with pytest.raises(InputError) as e:
+        rb.allocate(rb.prepare("rv80e"), model="contact", spec_arcmin=3.0, yield_target=0.9, samples=1000, seed=0)
+    assert e.value.field == "yield_target"
+    assert "cheapest feasible candidates failed verification on an independent stream" in str(e.value)
+    assert "failed verification: yield 0." in str(e.value)
