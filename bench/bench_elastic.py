@@ -29,7 +29,7 @@ def main() -> None:
     from rvbacklash import prepare, simulate
     from rvbacklash.analysis.simulation import default_workers
     from rvbacklash.models.elastic import elastic_model
-    from rvbacklash.sampling.elastic_source import evaluate_batch, sample_units
+    from rvbacklash.sampling.elastic_source import design_pin_laws, evaluate_batch, sample_units
 
     problem = prepare("rv80e")
     model = elastic_model(problem)
@@ -44,8 +44,10 @@ def main() -> None:
     evaluate_batch(model, units.take(slice(0, 10)))  # compile / load
     parts = np.array_split(np.arange(a.units), workers)
 
+    laws = {id(model): design_pin_laws(model), id(rigid): design_pin_laws(rigid)}  # as the engine's source has
+
     def run(idx, m=model):
-        return evaluate_batch(m, units.take(idx))
+        return evaluate_batch(m, units.take(idx), laws[id(m)])
 
     t = time.perf_counter()
     with ThreadPoolExecutor(workers) as pool:
