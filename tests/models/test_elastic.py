@@ -417,3 +417,27 @@ def test_the_pin_law_table_holds_each_units_laws(problem, model):
     el.fill_pin_law(off, model.chain, law)
     got = el.unit_pin_laws(off, model.chain, g.zp, g.discs, table)
     assert np.array_equal(got, law.ravel()) and not np.shares_memory(got, table)
+
+
+def test_contacts_in_closure_order_load_as_in_any_order():
+    """set_load over contacts in closure_order, each run stopped at its first open contact, gives
+    the load of the same contacts in any order (the closed contacts of a run are a prefix)."""
+    rng = np.random.default_rng(5)
+    m = 40
+    gaps = rng.normal(2.0, 3.0, m)
+    levers = rng.normal(0.0, 4e4, m)
+    levers[:3] = 0.0  # no lever: checked every time
+    law_a = rng.uniform(0.003, 0.005, m)
+    order, npos, nneg = el.closure_order(gaps, levers, m)
+    assert sorted(order) == list(range(m)) and npos == int((levers > 0).sum()) and nneg == int((levers < 0).sum())
+    g, lv, la = gaps[order], levers[order], law_a[order]
+    n_closed = 0
+    for x in rng.uniform(-5e-4, 5e-4, 25):
+        closed = lv * x - g > 0.0
+        n_closed += int(closed.sum())
+        assert not np.any(np.diff(closed[:npos].astype(int)) > 0)  # a prefix of each run
+        assert not np.any(np.diff(closed[npos:npos + nneg].astype(int)) > 0)
+        plain = el.set_load(x, gaps, levers, law_a, 2.3e-4, 1.0, 1e-6, m, np.zeros(m))
+        runs = el.set_load(x, g, lv, la, 2.3e-4, 1.0, 1e-6, m, np.zeros(m), npos, nneg)
+        np.testing.assert_allclose(runs, plain, rtol=1e-12, atol=1e-15)
+    assert n_closed > 100  # the loads are sums over many closed contacts, not zeros

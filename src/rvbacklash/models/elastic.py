@@ -339,26 +339,53 @@ def law_force(delta_um, a, b, n, f0):
     return f, df
 
 
+@nb.njit(nogil=True, cache=True, inline="always")
+def _settled_force(d, a, b, n, f0):
+    """law_step from f0, repeated while its error bound is above SETTLE (set_load)."""
+    f, df, e = law_step(d, a, b, n, f0)
+    for _ in range(30):  # settle: quadratic once close, 1-3 steps from a warm start
+        if e <= SETTLE:
+            break
+        f, df, e = law_step(d, a, b, n, f)
+    return f, df, e
+
+
 @nb.njit(nogil=True, cache=True)
-def set_load(x, gaps, levers, law_a, b, n, scale, m, work):
+def set_load(x, gaps, levers, law_a, b, n, scale, m, work, npos=-1, nneg=0):
     """(load, dload/dx, bound of the load's error, scale sum |F_j levers_j|) of the first m contacts
     of a set at x: contact j closes by delta_j = levers_j x - gaps_j and pushes back with
     F_j(delta_j) (``law_step`` from work[j], its force at the previous evaluation, repeated while
     the error bound is above SETTLE; 0 when open); load = scale sum F_j levers_j. Below SETTLE
     the forces are refined along with x (one step per evaluation, ``solve_set``), which stops
-    only once the bound is below 1e-11 of the load."""
+    only once the bound is below 1e-11 of the load.
+    ``npos`` >= 0: the contacts are in closure order (``closure_order``): npos with levers > 0 by
+    gap / lever rising, then nneg with levers < 0 by gap / lever falling, then the rest; the
+    closed ones of each run are a prefix, so each run stops at its first open contact (whose
+    work[j] is then left as it was: only a start for law_step)."""
     g = 0.0
     dg = 0.0
     err = 0.0
     gabs = 0.0
-    for j in range(m):
+    full = 0 if npos < 0 else npos + nneg
+    if npos >= 0:
+        for run in range(2):
+            lo_j = 0 if run == 0 else npos
+            hi_j = npos if run == 0 else npos + nneg
+            for j in range(lo_j, hi_j):
+                d = levers[j] * x - gaps[j]
+                if d <= 0.0:
+                    break
+                f, df, e = _settled_force(d, law_a[j], b, n, work[j])
+                work[j] = f
+                fl = f * abs(levers[j])
+                g += f * levers[j]
+                dg += df * levers[j] * levers[j]
+                err += e * fl
+                gabs += fl
+    for j in range(full, m):
         d = levers[j] * x - gaps[j]
         if d > 0.0:
-            f, df, e = law_step(d, law_a[j], b, n, work[j])
-            for _ in range(30):  # settle: quadratic once close, 1-3 steps from a warm start
-                if e <= SETTLE:
-                    break
-                f, df, e = law_step(d, law_a[j], b, n, f)
+            f, df, e = _settled_force(d, law_a[j], b, n, work[j])
             work[j] = f
             fl = f * abs(levers[j])
             g += f * levers[j]
@@ -368,6 +395,42 @@ def set_load(x, gaps, levers, law_a, b, n, scale, m, work):
         else:
             work[j] = 0.0
     return g * scale, dg * scale, err * scale, gabs * scale
+
+
+@nb.njit(nogil=True, cache=True)
+def closure_order(gaps, levers, m):
+    """(order, npos, nneg): the contacts with levers > 0 by gap / lever rising, then those with
+    levers < 0 by gap / lever falling, then those without a lever (set_load's runs)."""
+    pos = np.empty(m)
+    neg = np.empty(m)
+    ip = np.empty(m, dtype=np.int64)
+    ineg = np.empty(m, dtype=np.int64)
+    rest = np.empty(m, dtype=np.int64)
+    npos = nneg = nrest = 0
+    for j in range(m):
+        if levers[j] > 0.0:
+            pos[npos] = gaps[j] / levers[j]
+            ip[npos] = j
+            npos += 1
+        elif levers[j] < 0.0:
+            neg[nneg] = -gaps[j] / levers[j]  # falling gap / lever: rising -gap / lever
+            ineg[nneg] = j
+            nneg += 1
+        else:
+            rest[nrest] = j
+            nrest += 1
+    order = np.empty(m, dtype=np.int64)
+    k = 0
+    for q in np.argsort(pos[:npos]):
+        order[k] = ip[q]
+        k += 1
+    for q in np.argsort(neg[:nneg]):
+        order[k] = ineg[q]
+        k += 1
+    for q in range(nrest):
+        order[k] = rest[q]
+        k += 1
+    return order, npos, nneg
 
 
 @nb.njit(nogil=True, cache=True)
@@ -408,7 +471,7 @@ def set_bounds(gaps, levers, m, out):
 
 
 @nb.njit(nogil=True, cache=True)
-def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess, rtol=1e-11):
+def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess, rtol=1e-11, npos=-1, nneg=0):
     """The coordinate x at which the contact set carries ``load`` (its sign: the direction).
     load = 0: the edge of the free band on ``side`` (+1: the positive edge), or the preloaded
     equilibrium. ``guess``: a start inside the bracket (NaN: none).
@@ -420,7 +483,7 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
     contacts' forces are refined along (one ``law_step`` per evaluation); the bracket moves only
     where the load's error bound cannot flip the sign of the residual, else the forces settle in
     place. Stops when the residual and its error bound are below 1e-11 of the load (or of the
-    contacts' loads, at a preloaded equilibrium; ``rtol``)."""
+    contacts' loads, at a preloaded equilibrium; ``rtol``). ``npos``, ``nneg``: set_load's."""
     hi, lo = bounds[0], bounds[2]
     if load == 0.0:
         if lo <= hi:
@@ -444,13 +507,13 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
     if bounds[4] != 0.0:  # interfering tip/root contacts: make sure the bracket holds the root
         width = max(xh - xl, 1e-12)
         for _ in range(80):
-            if set_load(xl, gaps, levers, law_a, b, n, scale, m, work)[0] <= load:
+            if set_load(xl, gaps, levers, law_a, b, n, scale, m, work, npos, nneg)[0] <= load:
                 break
             xl -= width
             width *= 2.0
         width = max(xh - xl, 1e-12)
         for _ in range(80):
-            if set_load(xh, gaps, levers, law_a, b, n, scale, m, work)[0] >= load:
+            if set_load(xh, gaps, levers, law_a, b, n, scale, m, work, npos, nneg)[0] >= load:
                 break
             xh += width
             width *= 2.0
@@ -460,7 +523,7 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
         x = xh if load > 0.0 else (xl if load < 0.0 else 0.5 * (xl + xh))
     tol = 1e-13 * (abs(xl) + abs(xh)) + 1e-300
     for _ in range(300):
-        g, dg, err, gabs = set_load(x, gaps, levers, law_a, b, n, scale, m, work)
+        g, dg, err, gabs = set_load(x, gaps, levers, law_a, b, n, scale, m, work, npos, nneg)
         f = g - load
         ftol = rtol * max(abs(load), gabs)
         if err <= ftol and abs(f) <= ftol:
@@ -590,7 +653,7 @@ def _pins_bound(g, lev, laws, bounds, c, load):
 def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     """The unit's pin contacts referred to the output (levers / k), with their contact-law
     coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, shifted
-    gaps, shifted bounds).
+    gaps, shifted bounds, npos, nneg).
     Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
     ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
     rotation closes, the tip and root pins); each with its closure per um of its disc's translation
@@ -598,7 +661,8 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     holds the discs' translations [um] (row 0), sums (rows 1-4) and the last translations solved
     under a positive and a negative load (rows 5, 6: the next solve's start), then scratch for
     the gaps shifted by the translations and their bounds (``solve_pins``). ``table``: the
-    design's ``pin_law_table`` (None: each law computed)."""
+    design's ``pin_law_table`` (None: each law computed). Without translation the kept contacts
+    are in ``closure_order`` (npos, nneg: its runs; else -1, 0)."""
     discs, zp = gap_um.shape
     g = gap_um.ravel()
     lev = lever_um_per_rad.ravel() / c.lever_factor
@@ -625,8 +689,13 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
             rk[keep] = cm.pin_radial_closure(phi, c.k1)
             dk[keep] = j // zp
             keep += 1
+    npos, nneg = -1, 0
+    if not every:  # fixed gaps: in closure order (set_load stops each run at its first open contact)
+        order, npos, nneg = closure_order(gk, lk, keep)
+        gk, lk, ak, rk, dk = gk[order], lk[order], ak[order], rk[order], dk[order]
     set_bounds(gk, lk, keep, bounds)
-    return gk, lk, ak, keep, bounds, np.zeros(keep), rk, dk, np.zeros((7, discs)), np.empty(keep), np.empty(5)
+    return (gk, lk, ak, keep, bounds, np.zeros(keep), rk, dk, np.zeros((7, discs)), np.empty(keep), np.empty(5),
+            npos, nneg)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -686,10 +755,10 @@ def solve_pins(pins, load, side, guess, c):
     Newton step on the y's with x re-solved (J = diag(K_yy,q + K_y) - K_xy K_xy^T / K_xx), from the
     last y's, until the residuals are below 1e-10 of the forces. The dead band's edge of a
     translating disc is read at TINY_TORQUE (its radial balance needs a direction)."""
-    pg, pl, pa, pm, pb, pw, pr, pd, py, ge, gb = pins
+    pg, pl, pa, pm, pb, pw, pr, pd, py, ge, gb, npos, nneg = pins
     ky = c.radial_stiffness_n_per_um
     if not ky < np.inf:
-        return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess)
+        return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess, 1e-11, npos, nneg)
     t = side * TINY_TORQUE * c.rated_torque_nm if load == 0.0 else load
     discs = py.shape[1]
     row = 5 if t > 0.0 else 6
