@@ -279,7 +279,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
 
     def snapshot(run: RawRun) -> ConvergencePoint:
         o = run.outputs[0]
-        s = st.output_statistics(o, (CONVERGENCE_QUANTILE,), limits[0] if math.isfinite(limits[0]) else None)
+        s = st.output_statistics(o, (CONVERGENCE_QUANTILE,), limits[0] if math.isfinite(limits[0]) else None,
+                                 coarse=False)
         q = s.quantiles.table[0]
         y = s.yield_
         return ConvergencePoint(o.moments.n, s.mean, s.mean_ci95_low, s.mean_ci95_high, q.value, q.ci95_low,

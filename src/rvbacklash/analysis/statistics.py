@@ -135,7 +135,7 @@ class OutputStatistics(Result):
     cp: float | None
     cpk: float | None
     negative_fraction: float | None  # share of values below 0
-    histogram: HistogramData
+    histogram: HistogramData | None  # None: left out (output_statistics(coarse=False))
 
     def rows(self) -> list[dict]:
         def row(name, value, lo=None, hi=None, unit=self.unit):
@@ -168,10 +168,10 @@ def _num(x) -> str:
 
 # --- formulas ------------------------------------------------------------------------------
 
-def order_statistic(hist: Histogram, k: int) -> float | None:
+def order_statistic(hist: Histogram, k: int, cumulative: np.ndarray | None = None) -> float | None:
     """Value of the k-th smallest sample (1-based), spread evenly inside its bin; None when
-    it fell outside the histogram range."""
-    c = np.cumsum(hist.counts)
+    it fell outside the histogram range. ``cumulative``: np.cumsum(hist.counts), if at hand."""
+    c = np.cumsum(hist.counts) if cumulative is None else cumulative
     j = int(np.searchsorted(c, k))  # first index with cumulative count >= k
     if j == 0 or j == hist.counts.size - 1:
         return None
@@ -192,7 +192,9 @@ def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95
     lo_rank = int(stats.binom.ppf(alpha / 2, n, p))
     hi_rank = int(stats.binom.ppf(1 - alpha / 2, n, p)) + 1
     lo_rank, hi_rank = min(max(lo_rank, 1), n), min(max(hi_rank, 1), n)
-    return Quantile(p, order_statistic(hist, k), order_statistic(hist, lo_rank), order_statistic(hist, hi_rank))
+    c = np.cumsum(hist.counts)  # once for the three ranks (2^18 bins)
+    return Quantile(p, order_statistic(hist, k, c), order_statistic(hist, lo_rank, c),
+                    order_statistic(hist, hi_rank, c))
 
 
 def wilson_interval(successes: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
@@ -241,11 +243,12 @@ def _clamped(q: Quantile, lo: float, hi: float) -> Quantile:
 
 
 def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float | None = None,
-                      samples: int | None = None) -> OutputStatistics:
+                      samples: int | None = None, coarse: bool = True) -> OutputStatistics:
     """Every statistic of one output of a (possibly partial) run. The moments and quantiles are
     those of the samples the output applies to; the yield of a conditional output counts every
     sample (``samples``, the run's total): one it does not apply to meets the spec, as in the joint
-    yield (a unit whose cycloid stage is free meets a preload limit)."""
+    yield (a unit whose cycloid stage is free meets a preload limit). ``coarse`` False leaves out
+    the 200-bin histogram (None): a convergence point needs none."""
     m: Moments = raw.moments
     o = raw.output
     n = m.n
@@ -268,4 +271,4 @@ def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float |
         m.min if n else None, m.max if n else None,
         Quantiles(o.unit, qs),
         spec, o.upper_limit, y, ppm, cp, cpk, m.n_negative / n if n else None,
-        coarse_histogram(raw.histogram, n, o.unit))
+        coarse_histogram(raw.histogram, n, o.unit) if coarse else None)
