@@ -64,7 +64,7 @@ N_ELEMENTS = len(ELEMENTS)
 LOST_MOTION, BACKLASH, RIGIDITY = 0, 1, 2
 SHARES = 3 + N_ELEMENTS
 N_FIGURES = 3 + 2 * N_ELEMENTS
-N_STATE = 10  # chain_angles' warm starts and mirrored solves (pins, rollers, support bearings)
+N_STATE = 14  # chain_angles' warm starts, mirrored solves (pins, rollers, support bearings), pins' predictors
 TRANSLATION_ROUNDS = 60.0  # solve_pins' rounds (x solve, Newton step on the translations) at most
 TRANSLATION_STEP_UM = 1e-6  # solve_pins: a Newton step on the translations below this ends the rounds
 SUPPORT_MEMO = 24  # torques remembered by a support set (the loop's figures read ten)
@@ -471,7 +471,8 @@ def set_bounds(gaps, levers, m, out):
 
 
 @nb.njit(nogil=True, cache=True)
-def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess, rtol=1e-11, npos=-1, nneg=0):
+def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess, rtol=1e-11, npos=-1, nneg=0,
+              slope=None):
     """The coordinate x at which the contact set carries ``load`` (its sign: the direction).
     load = 0: the edge of the free band on ``side`` (+1: the positive edge), or the preloaded
     equilibrium. ``guess``: a start inside the bracket (NaN: none).
@@ -483,7 +484,11 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
     contacts' forces are refined along (one ``law_step`` per evaluation); the bracket moves only
     where the load's error bound cannot flip the sign of the residual, else the forces settle in
     place. Stops when the residual and its error bound are below 1e-11 of the load (or of the
-    contacts' loads, at a preloaded equilibrium; ``rtol``). ``npos``, ``nneg``: set_load's."""
+    contacts' loads, at a preloaded equilibrium; ``rtol``). ``npos``, ``nneg``: set_load's.
+    ``slope`` (2,): the load at which ``guess`` was solved and the set's stiffness dload/dx there
+    (NaN: unknown); the solve then starts from the tangent's prediction guess + (load - load_0) /
+    K_0 when it lies in the bracket (saving the evaluation at the guess); updated with this
+    solve's load and stiffness (load != 0)."""
     hi, lo = bounds[0], bounds[2]
     if load == 0.0:
         if lo <= hi:
@@ -519,6 +524,10 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
             width *= 2.0
     if math.isfinite(guess) and xl < guess < xh:
         x = guess
+        if slope is not None and load != 0.0 and slope[1] > 0.0:
+            pred = guess + (load - slope[0]) / slope[1]
+            if xl < pred < xh:
+                x = pred
     else:
         x = xh if load > 0.0 else (xl if load < 0.0 else 0.5 * (xl + xh))
     tol = 1e-13 * (abs(xl) + abs(xh)) + 1e-300
@@ -527,6 +536,8 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
         f = g - load
         ftol = rtol * max(abs(load), gabs)
         if err <= ftol and abs(f) <= ftol:
+            if slope is not None and load != 0.0:
+                slope[0], slope[1] = load, dg
             return x
         trusted = abs(f) > 2.0 * err  # the sign of f is right: the bracket may move
         if trusted:
@@ -538,6 +549,8 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
         if not (xl < xn < xh):  # bisect on trusted loads; else settle the forces where we are
             xn = 0.5 * (xl + xh) if trusted else x
         if err <= ftol and abs(xn - x) <= tol:
+            if slope is not None and load != 0.0:
+                slope[0], slope[1] = load, dg
             return xn
         x = xn
     return x
@@ -746,7 +759,7 @@ def _warm_solve(st, load, s, b, n, scale, state, i):
 
 
 @nb.njit(nogil=True, cache=True)
-def solve_pins(pins, load, side, guess, c):
+def solve_pins(pins, load, side, guess, c, slope=None):
     """The pins' output angle x [rad] at chain torque ``load`` (``solve_set``; at 0 the dead band's
     edge on ``side``). With the discs translating (docs/elastic.md): each disc q also moves by y_q
     [um] along its eccentric, which closes pin j by radial_j y_q, until its pins' radial resultant
@@ -754,11 +767,13 @@ def solve_pins(pins, load, side, guess, c):
     the y's held (the pins' gaps shifted by radial_j y_q: the bracketed solver unchanged), then a
     Newton step on the y's with x re-solved (J = diag(K_yy,q + K_y) - K_xy K_xy^T / K_xx), from the
     last y's, until the residuals are below 1e-10 of the forces. The dead band's edge of a
-    translating disc is read at TINY_TORQUE (its radial balance needs a direction)."""
+    translating disc is read at TINY_TORQUE (its radial balance needs a direction). ``slope``:
+    solve_set's predictor (fixed discs only)."""
     pg, pl, pa, pm, pb, pw, pr, pd, py, ge, gb, npos, nneg = pins
     ky = c.radial_stiffness_n_per_um
     if not ky < np.inf:
-        return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess, 1e-11, npos, nneg)
+        return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess, 1e-11, npos, nneg,
+                         slope)
     t = side * TINY_TORQUE * c.rated_torque_nm if load == 0.0 else load
     discs = py.shape[1]
     row = 5 if t > 0.0 else 6
@@ -838,12 +853,13 @@ def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, ou
     at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state`` (N_STATE,):
     the last pins and rollers solutions for positive and negative loads, starts for the next solve
     (NaN: none), then the last rollers' load and deflection (the roller layout is symmetric when
-    their number is even: a mirrored load needs no solve), then the same for the support bearings;
+    their number is even: a mirrored load needs no solve), then the same for the support bearings,
+    then the pins' last load and stiffness for positive and negative loads (solve_set's slope);
     updated. A translating disc's dead-band edge is read at TINY_TORQUE (its radial balance needs
     a load direction)."""
     s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
     k = 0 if s > 0.0 else 2
-    x = solve_pins(pins, t_el, s, state[k], c)
+    x = solve_pins(pins, t_el, s, state[k], c, state[10 + k:12 + k])
     rg, rl, ra, rm, rb, rw = rollers
     load = t_el * c.bearing_force_n_per_nm
     if c.rollers_symmetric != 0.0 and load != 0.0 and abs(load) == state[4]:
