@@ -487,8 +487,9 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
     contacts' loads, at a preloaded equilibrium; ``rtol``). ``npos``, ``nneg``: set_load's.
     ``slope`` (2,): the load at which ``guess`` was solved and the set's stiffness dload/dx there
     (NaN: unknown); the solve then starts from the tangent's prediction guess + (load - load_0) /
-    K_0 when it lies in the bracket (saving the evaluation at the guess); updated with this
-    solve's load and stiffness (load != 0)."""
+    K_0 when it lies in the bracket, or from the bracket's loaded end when the prediction passes
+    it (saving the evaluation at the guess); updated with this solve's load and stiffness
+    (load != 0)."""
     hi, lo = bounds[0], bounds[2]
     if load == 0.0:
         if lo <= hi:
@@ -501,11 +502,23 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
                 jm = j
         lev = abs(levers[jm])
         dx = cm.law_approach_um(abs(load) / (scale * lev), law_a[jm], b, n) / lev
+        xt = gaps[jm] / levers[jm] + (dx if load > 0.0 else -dx)
+        if npos >= 0:  # closure order: the first contacts to close, each alone, bound it too (tighter
+            # for a small load, where the set is only beginning to close); only levers near the
+            # largest: a small lever would need a force beyond the law's range
+            first, count = (0, npos) if load > 0.0 else (npos, nneg)
+            for j in range(first, first + min(count, 3)):
+                lv = abs(levers[j])
+                if lv < 0.5 * lev:
+                    continue
+                dxj = cm.law_approach_um(abs(load) / (scale * lv), law_a[j], b, n) / lv
+                xj = gaps[j] / levers[j] + (dxj if load > 0.0 else -dxj)
+                xt = min(xt, xj) if load > 0.0 else max(xt, xj)
         if load > 0.0:
-            xl, xt = hi, gaps[jm] / levers[jm] + dx
+            xl = hi
             xh = max(lo, xt)
         else:
-            xh, xt = lo, gaps[jm] / levers[jm] - dx
+            xh = lo
             xl = min(hi, xt)
         if not math.isfinite(guess) and xl < xt < xh:  # preloaded: try the tighter end first
             guess = xt
@@ -528,6 +541,8 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
             pred = guess + (load - slope[0]) / slope[1]
             if xl < pred < xh:
                 x = pred
+            elif (pred >= xh) if load > 0.0 else (pred <= xl):  # past the loaded end: that end is closer
+                x = xh if load > 0.0 else xl
     else:
         x = xh if load > 0.0 else (xl if load < 0.0 else 0.5 * (xl + xh))
     tol = 1e-13 * (abs(xl) + abs(xh)) + 1e-300
