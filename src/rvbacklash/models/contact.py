@@ -224,12 +224,6 @@ def curve_distance(a, rg, zc, qx, qy, t0):
 
 
 @nb.njit(nogil=True, cache=True)
-def signed_distance_um(a, rg, zc, qx, qy, t0):
-    """Signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve (``curve_distance``)."""
-    return curve_distance(a, rg, zc, qx, qy, t0)[0]
-
-
-@nb.njit(nogil=True, cache=True)
 def turned_gap(px, py, beta, base_um, a, rg, zc, t0):
     """(gap [um], foot parameter) of a pin at (px, py) in its disc's frame [mm] once the disc has
     turned by beta [rad]: base_um (eq_d - rho_j + cl_j / 2) plus its signed distance from the

@@ -71,8 +71,9 @@ SUPPORT_MEMO = 24  # torques remembered by a support set (the loop's figures rea
 TINY_TORQUE = 1e-12  # of T_R: the torque at which a translating disc's dead-band edge is read
 RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
 TINY_LEVER = 1e-3  # of the largest lever: a contact that cannot bound a rotation (set_bounds)
-SETTLE = 1e-4  # set_load: a force is stepped again while its relative error bound is above this (steps s/F > ~0.07:
-#                 below, the (s/F)^2 bound holds well within solve_set's factor-2 margin; 1e-3 let a bracket move wrongly)
+SETTLE = 1e-4  # set_load: a force is stepped again while its relative error bound is above this
+#                 (steps s/F > ~0.07: below, the (s/F)^2 bound holds well within solve_set's factor-2
+#                 margin; 1e-3 let a bracket move wrongly)
 LN_FORCE_GUESS = 6.0  # ln(400 N): start of the inversion of Johnson's law (pin and roller loads 10 N - 10 kN)
 
 
@@ -366,25 +367,18 @@ def set_load(x, gaps, levers, law_a, b, n, scale, m, work, npos=-1, nneg=0):
     dg = 0.0
     err = 0.0
     gabs = 0.0
-    full = 0 if npos < 0 else npos + nneg
-    if npos >= 0:
-        for run in range(2):
-            lo_j = 0 if run == 0 else npos
-            hi_j = npos if run == 0 else npos + nneg
-            for j in range(lo_j, hi_j):
-                d = levers[j] * x - gaps[j]
-                if d <= 0.0:
-                    break
-                f, df, e = _settled_force(d, law_a[j], b, n, work[j])
-                work[j] = f
-                fl = f * abs(levers[j])
-                g += f * levers[j]
-                dg += df * levers[j] * levers[j]
-                err += e * fl
-                gabs += fl
-    for j in range(full, m):
-        d = levers[j] * x - gaps[j]
-        if d > 0.0:
+    pos_end = max(npos, 0)
+    sorted_end = pos_end + nneg if npos >= 0 else 0
+    for run in range(3):  # the two sorted runs, then the contacts in no order
+        lo_j = 0 if run == 0 else (pos_end if run == 1 else sorted_end)
+        hi_j = pos_end if run == 0 else (sorted_end if run == 1 else m)
+        for j in range(lo_j, hi_j):
+            d = levers[j] * x - gaps[j]
+            if d <= 0.0:
+                if run < 2:
+                    break  # a sorted run: every contact after it is open too
+                work[j] = 0.0
+                continue
             f, df, e = _settled_force(d, law_a[j], b, n, work[j])
             work[j] = f
             fl = f * abs(levers[j])
@@ -392,8 +386,6 @@ def set_load(x, gaps, levers, law_a, b, n, scale, m, work, npos=-1, nneg=0):
             dg += df * levers[j] * levers[j]
             err += e * fl
             gabs += fl
-        else:
-            work[j] = 0.0
     return g * scale, dg * scale, err * scale, gabs * scale
 
 
@@ -616,9 +608,7 @@ def pin_law_table(c, zp, discs, steps):
     same numbers as computed unit by unit, once per design."""
     out = np.empty((steps, discs * zp))
     for s in range(steps):
-        chi = 2.0 * math.pi / zp * (s + 0.5) / steps
-        for i in range(discs * zp):
-            out[s, i] = pin_law_a(pin_phase(i, chi, zp, discs), c)
+        fill_pin_law(2.0 * math.pi / zp * (s + 0.5) / steps, c, out[s].reshape((discs, zp)))
     return out
 
 
@@ -631,10 +621,9 @@ def unit_pin_laws(chi, c, zp, discs, table):
         s = int(math.floor(chi * zp * steps / (2.0 * math.pi)))
         if 0 <= s < steps and 2.0 * math.pi / zp * (s + 0.5) / steps == chi:
             return table[s]
-    out = np.empty(discs * zp)
-    for i in range(discs * zp):
-        out[i] = pin_law_a(pin_phase(i, chi, zp, discs), c)
-    return out
+    out = np.empty((discs, zp))
+    fill_pin_law(chi, c, out)
+    return out.ravel()
 
 
 @nb.njit(nogil=True, cache=True)

@@ -297,6 +297,11 @@ CONTACT_OUTPUTS = (
 )
 
 
+def units_to_save(save_units: int, block_size: int, b: int, n: int) -> int:
+    """How many of block b's n units are recorded: those among the run's first ``save_units``."""
+    return min(max(save_units - b * block_size, 0), n)
+
+
 def save_width(g: ContactGeometry) -> int:
     return 4 + 5 * g.discs + 4 * g.zp + g.discs * g.zc + 2
 
@@ -324,15 +329,11 @@ class ContactBlockSource:
     outputs: tuple[Output, ...] = CONTACT_OUTPUTS
     block_size: int = BLOCK_UNITS
 
-    def saves(self, b: int, n: int) -> int:
-        """How many of block b's first units are recorded (the run's first ``save_units``)."""
-        return min(max(self.save_units - b * self.block_size, 0), n)
-
     def block(self, b: int, n: int) -> np.ndarray:
         """(3, n) outputs of block b (CONTACT_OUTPUTS)."""
         g = self.geometry
         out = np.empty((len(self.outputs), n))
-        nsave = self.saves(b, n)
+        nsave = units_to_save(self.save_units, self.block_size, b, n)
         save = np.empty((nsave, save_width(g)))
         contact_block(block_streams(self.seed, b, self.stream, self.swap, self.swap_stream), n,
                       self.method == "box-muller", self.error_model == "long_wave", self.codes, self.params,
@@ -407,8 +408,8 @@ class ContactStreams:
     def block(self, generators, n: int) -> np.ndarray:
         s, g = self.source, self.source.geometry
         out = np.empty((len(self.outputs), n))
-        contact_block(states_from_generators(generators), n, False, s.error_model == "long_wave", s.codes, s.params, s.ppf_tables,
-                      s.harmonics, s.linear_idx, s.linear_sens, np.array([IDX[k] for k in STAGE2_ORDER]), g.a_mm,
+        contact_block(states_from_generators(generators), n, False, s.error_model == "long_wave", s.codes, s.params,
+                      s.ppf_tables, s.harmonics, s.linear_idx, s.linear_sens, np.array([IDX[k] for k in STAGE2_ORDER]), g.a_mm,
                       g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um, s.coef, out, np.empty((0, save_width(g))))
         return out
 

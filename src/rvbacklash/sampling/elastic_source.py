@@ -30,7 +30,7 @@ from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_unit
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.contact_source import (BLOCK_UNITS, CRANK_STEPS, PRELOAD_OUTPUT, STAGE2_ORDER,
                                                 ContactBlockSource, block_streams, contact_source, draw_unit,
-                                                save_unit, save_width, unit_scratch)
+                                                save_unit, save_width, unit_scratch, units_to_save)
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators
@@ -149,7 +149,7 @@ class ElasticBlockSource:
         c = self.contact
         streams = block_streams(c.seed, b, c.stream, c.swap, c.swap_stream)
         out = np.empty((N_OUTPUTS, n))
-        keep = min(max(self.save_units - b * self.block_size, 0), n)
+        keep = units_to_save(self.save_units, self.block_size, b, n)
         save = np.empty((keep, save_width(c.geometry)))
 
         def evaluate(start: int, units: UnitBatch) -> None:

@@ -296,7 +296,7 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
         frame.update(ranges=ranges, scales=[HIST_BINS / (hi - lo) for lo, hi in ranges], shifts=shifts)
 
     def task(blocks: range):
-        """(first block, per block: stats (k, N_STATS) and joint count; histograms (k, bins)) of some blocks."""
+        """(its blocks, per block: stats (k, N_STATS) and joint count; histograms (k, bins)) of some blocks."""
         ys = []
         for b in blocks:
             y = source.block(b, sizes[b])
@@ -323,7 +323,11 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
     moments = [Moments() for _ in range(k)]
     hist_total = np.zeros((k, HIST_BINS + 2), dtype=np.int64)
     done: dict[int, tuple] = {}  # first block of a finished task -> (blocks, per_block, hist)
-    run: RawRun | None = None
+    run: RawRun | None = None  # made once the histogram ranges are known (the pilot)
+
+    def new_run(ranges) -> RawRun:
+        return RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c], Histogram(*ranges[c], hist_total[c]))
+                       for c in range(k)], 0, 0)
     next_block = 0
     finished_samples = 0
 
@@ -342,8 +346,7 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
         nonlocal run
         while next_block in done:
             if run is None:  # the frame is known once block 0's task is done
-                run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c],
-                                        Histogram(*frame["ranges"][c], hist_total[c])) for c in range(k)], 0, 0)
+                run = new_run(frame["ranges"])
             fold_task(*done.pop(next_block))
             if snapshot is not None and next_block in ends:
                 run.convergence.append(snapshot(run))
@@ -377,8 +380,7 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
                         progress(finished_samples)
         except KeyboardInterrupt:  # raised by a callback, or outside the main thread
             stop.set()
-        if stop.is_set() or next(queue, None) is not None or pending:
-            stop.set()
+        if stop.is_set():
             for fut in pending:
                 fut.cancel()
             for fut in pending:
@@ -386,15 +388,12 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
                     collect(fut)  # blocks already being worked on are finished and kept
             pending.clear()
             fold()
-            if done and run is None:
-                run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c],
-                                        Histogram(*frame["ranges"][c], hist_total[c])) for c in range(k)], 0, 0)
+            if done and run is None:  # any finished task waited for the pilot: the frame is known
+                run = new_run(frame["ranges"])
             for first in sorted(done):  # tasks finished out of order are folded too, in block order
                 fold_task(*done.pop(first))
     if run is None:  # stopped before block 0 was in: nothing finished
-        ranges = [(0.0, 1.0)] * k
-        run = RawRun([RawOutput(outs[c], float(limits_a[c]), moments[c], Histogram(*ranges[c], hist_total[c]))
-                      for c in range(k)], 0, 0)
+        run = new_run([(0.0, 1.0)] * k)
     run.partial = run.samples < sum(sizes)
     run.elapsed_s = time.perf_counter() - t0
     return run
