@@ -134,6 +134,13 @@ RHO_MAX_MM = 1e3  # near an inflection of C its osculating circle is a line: 1 m
 # the osculating circle's error is third order in the displacement over its radius, so a pin on a
 # tightly bent stretch of C (radius below RHO_TIGHT_MM, near the tooth tips) gets the wide band.
 BAND_WIDE, BAND_NARROW, RHO_TIGHT_MM = 0.10, 0.005, 3.0
+WORK_ROWS = 4  # stage_play's scratch (stage_work): pin centres, estimates, closing distances
+
+
+@nb.njit(nogil=True, cache=True)
+def stage_work(discs, zp):
+    """Scratch space of stage_play (and unit_gaps, which uses its first four rows)."""
+    return np.empty((WORK_ROWS, discs, zp))
 
 
 def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
@@ -204,8 +211,11 @@ def curve_point(a, rg, zc, t):
 @nb.njit(nogil=True, cache=True)
 def curve_distance(a, rg, zc, qx, qy, t0):
     """(signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve, positive away
-    from the disc; the curve parameter t of its foot): Newton on (C(t) - q) . C'(t) = 0 from t0,
-    as PinCentreCurve.signed_distance. A start from a nearby point's foot converges in 1-2 steps."""
+    from the disc; the curve parameter t of its foot; the unit outward normal there (nx, ny)):
+    Newton on (C(t) - q) . C'(t) = 0 from t0, as PinCentreCurve.signed_distance. A start from a
+    nearby point's foot converges in 1-2 steps. The distance is read at the last foot once its
+    Newton step is below 1e-9: the normal projection's error is second order in the foot's,
+    |C'|^2 kappa step^2 / 2 < 1e-13 um with |C'| < 4 mm and kappa < 10 /mm."""
     t = t0
     for _ in range(12):
         x, y, dx, dy, ddx, ddy = curve_point(a, rg, zc, t)
@@ -213,24 +223,28 @@ def curve_distance(a, rg, zc, qx, qy, t0):
         f = rx * dx + ry * dy
         fp = dx * dx + dy * dy + rx * ddx + ry * ddy
         step = f / fp
-        t -= step
-        if abs(step) < 1e-13:  # quadratic convergence: the last step was below 1e-26
+        t -= step  # for the next start; this foot's point (x, y) gives the distance
+        if abs(step) < 1e-9:
             break
-    x, y, dx, dy, _, _ = curve_point(a, rg, zc, t)
     nx, ny = dy, -dx
     if nx * x + ny * y < 0:  # outward: away from the disc centre
         nx, ny = -nx, -ny
-    return ((qx - x) * nx + (qy - y) * ny) / math.sqrt(nx * nx + ny * ny) * 1e3, t
+    norm = math.sqrt(nx * nx + ny * ny)
+    nx, ny = nx / norm, ny / norm
+    return ((qx - x) * nx + (qy - y) * ny) * 1e3, t, nx, ny
 
 
 @nb.njit(nogil=True, cache=True)
 def turned_gap(px, py, beta, base_um, a, rg, zc, t0):
-    """(gap [um], foot parameter) of a pin at (px, py) in its disc's frame [mm] once the disc has
-    turned by beta [rad]: base_um (eq_d - rho_j + cl_j / 2) plus its signed distance from the
-    curve of generating radius rg [mm] (the disc's modification included)."""
+    """(gap [um], d gap / d beta [um/rad], foot parameter) of a pin at (px, py) in its disc's frame
+    [mm] once the disc has turned by beta [rad]: base_um (eq_d - rho_j + cl_j / 2) plus its signed
+    distance from the curve of generating radius rg [mm] (the disc's modification included). The
+    pin turns to q = R(-beta) p, dq/dbeta = (q_y, -q_x), and the distance's gradient is the unit
+    normal at the foot."""
     cb, sb = math.cos(beta), math.sin(beta)
-    dist, t = curve_distance(a, rg, zc, cb * px + sb * py, -sb * px + cb * py, t0)
-    return base_um + dist, t
+    qx, qy = cb * px + sb * py, -sb * px + cb * py
+    dist, t, nx, ny = curve_distance(a, rg, zc, qx, qy, t0)
+    return base_um + dist, (nx * qy - ny * qx) * 1e3, t
 
 
 @nb.njit(nogil=True, cache=True)
@@ -292,6 +306,21 @@ def _contact_rotation(c0, p1, p2, dt_mm, start, sgn):
     return best
 
 
+@nb.njit(nogil=True, cache=True, inline="always")
+def _contact_rotation_bound(c0, p1, p2, dt_mm, side, cs, ss, sgn):
+    """A lower bound [rad] of _contact_rotation(c0, p1, p2, dt_mm, start, sgn), without its
+    trigonometry (cs, ss: cos and sin of start; side: the pin's SIDE). h(beta) = SIDE (D^2(beta) -
+    dt^2) has the sign of the gap, and |h''| = |2 (p1 cos beta + p2 sin beta)| <= 2 r with r = |(p1,
+    p2)|, so h(start + sgn x) >= H - S x - r x^2, H = h(start), S = -sgn h'(start) (Taylor); the
+    positive root of the right side, 2 H / (S + sqrt(S^2 + 4 r H)), comes no later than the contact.
+    0 when the pin is not free at start (H <= 0)."""
+    h = side * (c0 - dt_mm * dt_mm - 2.0 * (p1 * cs + p2 * ss))
+    if h <= 0.0:
+        return 0.0
+    rate = -sgn * 2.0 * side * (p1 * ss - p2 * cs)
+    return 2.0 * h / (rate + math.sqrt(rate * rate + 4.0 * math.sqrt(p1 * p1 + p2 * p2) * h))
+
+
 @nb.njit(nogil=True, cache=True)
 def _linear_maxmin(gap, lever, lo, hi, discs, zp):
     """The rotation maximising min_j (gap_j - lever_j beta) (active-set iteration on the lines)."""
@@ -316,6 +345,18 @@ def _linear_maxmin(gap, lever, lo, hi, discs, zp):
     return beta
 
 
+@nb.njit(nogil=True, cache=True, inline="always")
+def _osculating_gap(c, qx, qy, tgt, md_d, cb, sb):
+    """(gap [um], lever [um/rad]) of one pin on its osculating circle once the disc has turned by
+    beta (cb, sb: cos and sin of beta); c its mesh_table row, (qx, qy) its centre in the disc frame
+    [mm], tgt the distance at which its gap closes [mm] (see stage_play)."""
+    ox = c[OX] + md_d * 1e-3 * c[EUX]
+    oy = c[OY] + md_d * 1e-3 * c[EUY]
+    p1, p2 = qx * ox + qy * oy, qy * ox - qx * oy
+    dist = math.sqrt(max(qx * qx + qy * qy + ox * ox + oy * oy - 2.0 * (p1 * cb + p2 * sb), 1e-300))
+    return c[SIDE] * ((c[RHO] - tgt) + (dist - c[RHO])) * 1e3, -c[SIDE] * 1e3 * (p1 * sb - p2 * cb) / dist
+
+
 @nb.njit(nogil=True, cache=True)
 def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
     """(value, lever) of the lowest falling gap and of the lowest rising gap at rotation beta [um,
@@ -324,14 +365,7 @@ def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
     fall, rise, lf, lr = np.inf, np.inf, 0.0, 0.0
     for d in range(discs):
         for j in range(zp):
-            c = coef[d, j]
-            ox = c[OX] + md[d] * 1e-3 * c[EUX]
-            oy = c[OY] + md[d] * 1e-3 * c[EUY]
-            qx, qy = qx_[d, j], qy_[d, j]
-            p1, p2 = qx * ox + qy * oy, qy * ox - qx * oy
-            dist = math.sqrt(max(qx * qx + qy * qy + ox * ox + oy * oy - 2.0 * (p1 * cb + p2 * sb), 1e-300))
-            v = c[SIDE] * ((c[RHO] - tgt[d, j]) + (dist - c[RHO])) * 1e3  # base + SIDE (D - RHO), in um
-            lv = -c[SIDE] * 1e3 * (p1 * sb - p2 * cb) / dist
+            v, lv = _osculating_gap(coef[d, j], qx_[d, j], qy_[d, j], tgt[d, j], md[d], cb, sb)
             if lv > 0.0:
                 if v < fall:
                     fall, lf = v, lv
@@ -343,47 +377,44 @@ def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
 @nb.njit(nogil=True, cache=True)
 def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
     """(max over beta of min_j gap_j(beta) [um], the beta [rad]) on the osculating circles
-    (stage_play): negative, the unit's preload."""
-    # the max of min_j gap_j(beta) lies where the lowest falling gap (lever > 0) meets the lowest
-    # rising one: safeguarded Newton on their difference, each gap on its osculating circle
+    (stage_play): negative, the unit's preload.
+
+    The max lies where the lowest falling gap (lever > 0) meets the lowest rising one: Newton on
+    their difference from the linear answer (_linear_maxmin), inside the bracket the evaluations
+    build (a falling gap lowest at its right end, a rising one at its left). A Newton step that
+    leaves the bracket (the lowest gaps switch pins near a vertex, where plain Newton cycles) is
+    replaced by the meeting point of the falling gap's tangent at the right end and the rising
+    gap's at the left end (exact when the gaps are straight), or by bisection when that too falls
+    outside. It stops when the two lowest gaps agree to PRELOAD_STEP_UM, or when those tangents
+    promise less than that above the best value found (the max is a single pin's peak)."""
     beta = _linear_maxmin(gap, lever, lo, hi, discs, zp)
-    m = -np.inf
-    done = False
-    for _ in range(12):  # Newton from the linear answer: usually a few steps
+    left, right = -np.inf, np.inf
+    fl_v, fl_l, rl_v, rl_l = 0.0, 0.0, 0.0, 0.0  # the right end's falling tangent, the left end's rising one
+    best, best_beta = -np.inf, beta
+    for _ in range(80):
         fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
         m = min(fall, rise)
+        if m > best:
+            best, best_beta = m, beta
         if abs(fall - rise) < PRELOAD_STEP_UM:
-            done = True
+            return m, beta
+        if not (math.isfinite(fall) and math.isfinite(rise)):
             break
-        if lf == lr:
+        if fall > rise:
+            left, rl_v, rl_l = beta, rise, lr
+        else:
+            right, fl_v, fl_l = beta, fall, lf
+        if right - left < 1e-15:
             break
-        beta += (fall - rise) / (lf - lr)
-    if not done:  # safeguarded: a bracket with the rising gap lowest at its left end, the falling at its right
-        width = 1e-5
-        left, right = beta - width, beta + width
-        for _ in range(60):
-            fl, _, rl, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, left)
-            fr, _, rr, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, right)
-            if fl >= rl and fr <= rr:
+        nxt = beta + (fall - rise) / (lf - lr)
+        if not left < nxt < right and math.isfinite(left) and math.isfinite(right):
+            nxt = (fl_v + fl_l * right - rl_v - rl_l * left) / (fl_l - rl_l)
+            if fl_v - fl_l * (nxt - right) - best < PRELOAD_STEP_UM:
                 break
-            if fl < rl:
-                left -= width
-            if fr > rr:
-                right += width
-            width *= 2.0
-        beta = 0.5 * (left + right)
-        for _ in range(80):
-            fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
-            m = min(fall, rise)
-            if abs(fall - rise) < PRELOAD_STEP_UM or right - left < 1e-15:
-                break
-            if fall > rise:
-                left = beta
-            else:
-                right = beta
-            nxt = beta + (fall - rise) / (lf - lr) if lf != lr else 0.5 * (left + right)
-            beta = nxt if left < nxt < right else 0.5 * (left + right)
-    return m, beta
+            if not left < nxt < right:
+                nxt = 0.5 * (left + right)
+        beta = nxt
+    return best, best_beta
 
 
 @nb.njit(nogil=True, cache=True)
@@ -434,7 +465,7 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
     exact to second order in the displacements (the curve's own curvature included), which the
     near-tip pins need: C bends there with radii down to 0.2 mm. gap/lever (discs, z_p) receive
     gap_j(0) [um] and lever_j = -d gap_j / d beta (0) [um/rad] (> 0 stops a counter-clockwise
-    rotation), the elastic model's inputs; ``work`` (4, discs, z_p) is scratch space. The discs
+    rotation), the elastic model's inputs; ``work`` (stage_work) is scratch space. The discs
     are tied by the cranks (one beta). The unit is preloaded when the linearised gaps admit no
     beta that frees every pin, or when, at the middle of the interval they admit, a pin's
     osculating gap still interferes (a pin facing a tooth tip, where the gap bends back within
@@ -472,31 +503,46 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
         out[0] = 0.0
         out[1] = 0.0
         return
+    cbc, sbc = math.cos(bc), math.sin(bc)
     for side in range(2):  # 0: counter-clockwise (beta > 0), 1: clockwise
         sgn = 1.0 if side == 0 else -1.0
         first_lin = np.inf  # the linear estimate screens out the pins far from contact
+        dl, jl = -1, -1
         for d in range(discs):
             for j in range(zp):
                 slope = sgn * lever[d, j]
                 est[d, j] = (gap[d, j] - lever[d, j] * bc) / slope if slope > 0.0 else np.inf
-                first_lin = min(first_lin, est[d, j])
+                if est[d, j] < first_lin:
+                    first_lin, dl, jl = est[d, j], d, j
+        # contact rotation of the pins near it, on their osculating circles: first the pin the linear
+        # estimate puts first, then each pin whose lower bound (_contact_rotation_bound) is within the
+        # band of the first found so far
         first = np.inf
-        for d in range(discs):  # contact rotation of the pins near it, on their osculating circles
-            for j in range(zp):
-                c = coef[d, j]
-                if est[d, j] > 3.0 * first_lin and c[RHO] >= RHO_TIGHT_MM:
-                    est[d, j] = np.inf
+        for k in range(discs * zp + 1):
+            if k == 0:
+                if dl < 0:
                     continue
-                qx, qy = qx_[d, j], qy_[d, j]
-                ox = c[OX] + md[d] * 1e-3 * c[EUX]
-                oy = c[OY] + md[d] * 1e-3 * c[EUY]
-                x = np.inf
-                if tgt[d, j] > 0.0:
-                    x = _contact_rotation(qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy,
-                                          qy * ox - qx * oy, tgt[d, j], bc, sgn)
-                est[d, j] = x
-                first = min(first, x)
-        # the candidates on the exact curve: one secant step each from their estimate; a second pass
+                d, j = dl, jl
+            else:
+                d, j = (k - 1) // zp, (k - 1) % zp
+                if d == dl and j == jl:
+                    continue
+            c = coef[d, j]
+            if (est[d, j] > 3.0 * first_lin and c[RHO] >= RHO_TIGHT_MM) or tgt[d, j] <= 0.0:
+                est[d, j] = np.inf
+                continue
+            qx, qy = qx_[d, j], qy_[d, j]
+            ox = c[OX] + md[d] * 1e-3 * c[EUX]
+            oy = c[OY] + md[d] * 1e-3 * c[EUY]
+            c0, p1, p2 = qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy, qy * ox - qx * oy
+            band = BAND_WIDE if c[RHO] < RHO_TIGHT_MM else BAND_NARROW
+            if _contact_rotation_bound(c0, p1, p2, tgt[d, j], c[SIDE], cbc, sbc, sgn) > first * (1.0 + band):
+                est[d, j] = np.inf
+                continue
+            x = _contact_rotation(c0, p1, p2, tgt[d, j], bc, sgn)
+            est[d, j] = x
+            first = min(first, x)
+        # the candidates on the exact curve: one Newton step each from their estimate; a second pass
         # takes the pins within the band of the refined first contact that the estimate's band left out
         # (a tip pin's osculating circle can put its estimate early)
         best = np.inf
@@ -513,26 +559,20 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
                         continue
                     px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
                     base = eq[d] - rho[j] + 0.5 * cl[j]
-                    f1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[d, j][T0])
-                    h = 1e-7 + 1e-3 * x
-                    f2, _ = turned_gap(px, py, bc + sgn * (x + h), base, a, rg, zc, t1)
-                    if f2 != f1:
-                        x -= f1 * h / (f2 - f1)
+                    f1, s1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[d, j][T0])
+                    if s1 != 0.0:
+                        x -= f1 / (sgn * s1)
                     if x < best:
                         best, bd, bj = x, d, j
                         bpx, bpy, bbase, bt = px, py, base, t1
             if not best > first:
                 break
         rg = rp + md[bd] * 1e-3
-        for _ in range(3):  # the first of them to full precision
-            f1, bt = turned_gap(bpx, bpy, bc + sgn * best, bbase, a, rg, zc, bt)
-            if abs(f1) < 1e-9:
+        for _ in range(4):  # the first of them to full precision (Newton)
+            f1, s1, bt = turned_gap(bpx, bpy, bc + sgn * best, bbase, a, rg, zc, bt)
+            if abs(f1) < 1e-9 or s1 == 0.0:
                 break
-            h = 1e-7 + 1e-4 * best
-            f2, _ = turned_gap(bpx, bpy, bc + sgn * (best + h), bbase, a, rg, zc, bt)
-            if f2 == f1:
-                break
-            best -= f1 * h / (f2 - f1)
+            best -= f1 / (sgn * s1)
         out[3 + 2 * side] = bj
         out[4 + 2 * side] = bd
         out[side] = best + sgn * bc  # rotation from beta = 0
@@ -562,7 +602,7 @@ def kernel_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
     stage_play(coef, r.chi_rad, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
                *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r)), gap, lever,
-               np.empty((4, g.discs, g.zp)), out)
+               stage_work(g.discs, g.zp), out)
     return MeshPlay((), float(out[2]), g.pitch_radius_um, float(out[0]), float(out[1]))
 
 

@@ -45,7 +45,7 @@ from rvbacklash._numba import nb
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH,
-                                      Realization, _linear_maxmin, mesh_table, stage_play, unit_arrays)
+                                      Realization, _linear_maxmin, mesh_table, stage_play, stage_work, unit_arrays)
 from rvbacklash.problem import Problem
 
 ARCSEC_PER_RAD = 648000.0 / math.pi
@@ -219,7 +219,7 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
 def curve_scratch(zp, zc, discs, planets):
     """Scratch arrays of te_curve: teeth, ux, uy, dchi, gap, lever, work, res."""
     return (np.empty((discs, zc)), np.empty(discs), np.empty(discs), np.empty(planets), np.empty((discs, zp)),
-            np.empty((discs, zp)), np.empty((4, discs, zp)), np.empty(7))
+            np.empty((discs, zp)), stage_work(discs, zp), np.empty(7))
 
 
 def kinematic_arrays(r, discs: int, planets: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

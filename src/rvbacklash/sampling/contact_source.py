@@ -36,7 +36,7 @@ from rvbacklash.factors.catalog import CATALOG
 from rvbacklash.factors.distributions import (KERNEL_NORMAL, KERNEL_TABLE, KERNEL_TRUNCNORM, TABLE_POINTS,
                                               kernel_draw, ppf_table)
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import Realization, mesh_table, stage_play
+from rvbacklash.models.contact import Realization, mesh_table, stage_play, stage_work
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import (states_from_generators, stream_normal, stream_normals, stream_states,
@@ -147,7 +147,7 @@ def unit_scratch(zp, zc, discs):
     return (np.empty(zp), np.empty(zp), np.empty(zp), np.empty(zp), np.empty((discs, zc)), np.empty(discs),
             np.empty(discs), np.empty(discs), np.empty(discs), np.empty(discs),
             np.empty(zp), np.empty(zp), np.empty(zc), np.empty(zc), np.zeros(zc), harmonics_trig(zp),
-            harmonics_trig(zc), np.empty((discs, zp)), np.empty((discs, zp)), np.empty((4, discs, zp)), np.empty(7),
+            harmonics_trig(zc), np.empty((discs, zp)), np.empty((discs, zp)), stage_work(discs, zp), np.empty(7),
             np.empty(4 + 2 * max(zp, zc)))
 
 
