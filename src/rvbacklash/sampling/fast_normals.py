@@ -256,9 +256,11 @@ def states_from_generators(generators) -> np.ndarray:
     return out
 
 
-@nb.njit(nogil=True, inline="always")
+@nb.njit(nogil=True, cache=True)
 def stream_normal(states, f):
-    """A standard normal from stream f of ``states`` (advanced in place)."""
+    """A standard normal from stream f of ``states`` (advanced in place). A call, not inlined: a
+    kernel drawing scalars at many places would otherwise compile the ziggurat at each (tens of
+    seconds of compilation for a few ns per draw)."""
     z, s0, s1, s2, s3 = _normal(states[f, 0], states[f, 1], states[f, 2], states[f, 3])
     states[f, 0], states[f, 1], states[f, 2], states[f, 3] = s0, s1, s2, s3
     return z
