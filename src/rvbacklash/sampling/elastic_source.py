@@ -87,8 +87,9 @@ def draw_units_kernel(streams, n, long_wave, codes, params, tables, harmonics, l
     work, res = sc[19], sc[20]
     steps = coef.shape[0]
     sens_crank = linear_sens[linear_sens.size - 1]
+    bm = n < 0  # False, but not a literal: draw_unit then compiles once for all the kernels
     for s in range(n):
-        step, lin, crank, eq0, md0 = draw_unit(streams, False, long_wave, codes, params, tables, harmonics, linear_idx,
+        step, lin, crank, eq0, md0 = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
                                                linear_sens, idx, zp, zc, discs, steps, sc)
         chi = 2.0 * math.pi / zp * (step + 0.5) / steps
         chi_out[s] = chi

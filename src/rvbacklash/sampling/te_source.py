@@ -66,9 +66,11 @@ def draw_chunk(streams, kin, m, long_wave, codes, params, tables, harmonics, lin
     sc = unit_scratch(zp, zc, discs)
     hd = np.empty((discs, planets, 2))
     hc = np.empty((planets, 2))
+    # False and one crank-angle step, but not literals: draw_unit then compiles once for all the kernels
+    bm, steps = m < 0, np.int64(1)
     for s in range(m):
-        _, lin[s], _, _, _ = draw_unit(streams, False, long_wave, codes, params, tables, harmonics, linear_idx,
-                                       linear_sens, idx, zp, zc, discs, 1, sc)
+        _, lin[s], _, _, _ = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
+                                       linear_sens, idx, zp, zc, discs, steps, sc)
         dr[s, :] = sc[0]
         dt[s, :] = sc[1]
         rho[s, :] = sc[2]
