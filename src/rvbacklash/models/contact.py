@@ -139,7 +139,7 @@ WORK_ROWS = 4  # stage_play's scratch (stage_work): pin centres, estimates, clos
 
 @nb.njit(nogil=True, cache=True)
 def stage_work(discs, zp):
-    """Scratch space of stage_play (and unit_gaps, which uses its first four rows)."""
+    """Scratch space of stage_play and unit_gaps."""
     return np.empty((WORK_ROWS, discs, zp))
 
 
@@ -346,15 +346,38 @@ def _linear_maxmin(gap, lever, lo, hi, discs, zp):
 
 
 @nb.njit(nogil=True, cache=True, inline="always")
-def _osculating_gap(c, qx, qy, tgt, md_d, cb, sb):
-    """(gap [um], lever [um/rad]) of one pin on its osculating circle once the disc has turned by
-    beta (cb, sb: cos and sin of beta); c its mesh_table row, (qx, qy) its centre in the disc frame
-    [mm], tgt the distance at which its gap closes [mm] (see stage_play)."""
+def _circle_terms(c, qx, qy, md_d):
+    """(c0, p1, p2) [mm^2] of a pin's distance from its osculating circle's centre as the disc turns
+    by beta: D^2(beta) = c0 - 2 (p1 cos beta + p2 sin beta); c its mesh_table row, (qx, qy) its
+    centre in the disc frame [mm], md_d its disc's moving-distance modification [um]."""
     ox = c[OX] + md_d * 1e-3 * c[EUX]
     oy = c[OY] + md_d * 1e-3 * c[EUY]
-    p1, p2 = qx * ox + qy * oy, qy * ox - qx * oy
-    dist = math.sqrt(max(qx * qx + qy * qy + ox * ox + oy * oy - 2.0 * (p1 * cb + p2 * sb), 1e-300))
+    return qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy, qy * ox - qx * oy
+
+
+@nb.njit(nogil=True, cache=True, inline="always")
+def _osculating_gap(c, qx, qy, tgt, md_d, cb, sb):
+    """(gap [um], lever [um/rad]) of one pin on its osculating circle once the disc has turned by
+    beta (cb, sb: cos and sin of beta); tgt the distance at which its gap closes [mm] (see
+    stage_play and _circle_terms)."""
+    c0, p1, p2 = _circle_terms(c, qx, qy, md_d)
+    dist = math.sqrt(max(c0 - 2.0 * (p1 * cb + p2 * sb), 1e-300))
     return c[SIDE] * ((c[RHO] - tgt) + (dist - c[RHO])) * 1e3, -c[SIDE] * 1e3 * (p1 * sb - p2 * cb) / dist
+
+
+@nb.njit(nogil=True, cache=True, inline="always")
+def _screened_contact(c, qx, qy, tgt, md_d, est, first_lin, first, bc, cbc, sbc, sgn):
+    """Contact rotation [rad] of one pin on its osculating circle from bc on side sgn
+    (_contact_rotation), or inf when screened out: its linear estimate est is beyond 3 first_lin
+    (unless on a tightly bent stretch of C), it never closes (tgt <= 0), or its lower bound
+    (_contact_rotation_bound; cbc, sbc: cos and sin of bc) is beyond the band of ``first``."""
+    if (est > 3.0 * first_lin and c[RHO] >= RHO_TIGHT_MM) or tgt <= 0.0:
+        return np.inf
+    c0, p1, p2 = _circle_terms(c, qx, qy, md_d)
+    band = BAND_WIDE if c[RHO] < RHO_TIGHT_MM else BAND_NARROW
+    if _contact_rotation_bound(c0, p1, p2, tgt, c[SIDE], cbc, sbc, sgn) > first * (1.0 + band):
+        return np.inf
+    return _contact_rotation(c0, p1, p2, tgt, bc, sgn)
 
 
 @nb.njit(nogil=True, cache=True)
@@ -515,33 +538,20 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
                 if est[d, j] < first_lin:
                     first_lin, dl, jl = est[d, j], d, j
         # contact rotation of the pins near it, on their osculating circles: first the pin the linear
-        # estimate puts first, then each pin whose lower bound (_contact_rotation_bound) is within the
-        # band of the first found so far
-        first = np.inf
-        for k in range(discs * zp + 1):
-            if k == 0:
-                if dl < 0:
-                    continue
-                d, j = dl, jl
-            else:
-                d, j = (k - 1) // zp, (k - 1) % zp
+        # estimate puts first, then each pin whose lower bound is within the band of the first so far
+        lead = np.inf
+        if dl >= 0:
+            lead = _screened_contact(coef[dl, jl], qx_[dl, jl], qy_[dl, jl], tgt[dl, jl], md[dl], est[dl, jl],
+                                     first_lin, lead, bc, cbc, sbc, sgn)
+        first = lead
+        for d in range(discs):
+            for j in range(zp):
                 if d == dl and j == jl:
+                    est[d, j] = lead
                     continue
-            c = coef[d, j]
-            if (est[d, j] > 3.0 * first_lin and c[RHO] >= RHO_TIGHT_MM) or tgt[d, j] <= 0.0:
-                est[d, j] = np.inf
-                continue
-            qx, qy = qx_[d, j], qy_[d, j]
-            ox = c[OX] + md[d] * 1e-3 * c[EUX]
-            oy = c[OY] + md[d] * 1e-3 * c[EUY]
-            c0, p1, p2 = qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy, qy * ox - qx * oy
-            band = BAND_WIDE if c[RHO] < RHO_TIGHT_MM else BAND_NARROW
-            if _contact_rotation_bound(c0, p1, p2, tgt[d, j], c[SIDE], cbc, sbc, sgn) > first * (1.0 + band):
-                est[d, j] = np.inf
-                continue
-            x = _contact_rotation(c0, p1, p2, tgt[d, j], bc, sgn)
-            est[d, j] = x
-            first = min(first, x)
+                est[d, j] = _screened_contact(coef[d, j], qx_[d, j], qy_[d, j], tgt[d, j], md[d], est[d, j],
+                                              first_lin, first, bc, cbc, sbc, sgn)
+                first = min(first, est[d, j])
         # the candidates on the exact curve: one Newton step each from their estimate; a second pass
         # takes the pins within the band of the refined first contact that the estimate's band left out
         # (a tip pin's osculating circle can put its estimate early)

@@ -673,12 +673,13 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
     ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
     rotation closes, the tip and root pins); each with its closure per um of its disc's translation
-    along the eccentric (``compliance.pin_radial_closure``; 0 when the discs do not translate), its disc, and scratch: yw (7, discs)
-    holds the discs' translations [um] (row 0), sums (rows 1-4) and the last translations solved
-    under a positive and a negative load (rows 5, 6: the next solve's start), then scratch for
-    the gaps shifted by the translations and their bounds (``solve_pins``). ``table``: the
-    design's ``pin_law_table`` (None: each law computed). Without translation the kept contacts
-    are in ``closure_order`` (npos, nneg: its runs; else -1, 0)."""
+    along the eccentric (``compliance.pin_radial_closure``; 0 when the discs do not translate), its
+    disc, and scratch: yw (7, discs) holds the discs' translations [um] (row 0), sums (rows 1-4)
+    and the last translations solved under a positive and a negative load (rows 5, 6: the next
+    solve's start), then scratch for the gaps shifted by the translations and their bounds
+    (``solve_pins``). ``table``: the design's ``pin_law_table`` (None: each law computed).
+    Without translation the kept contacts are in ``closure_order`` (npos, nneg: its runs; else
+    -1, 0)."""
     discs, zp = gap_um.shape
     g = gap_um.ravel()
     lev = lever_um_per_rad.ravel() / c.lever_factor
