@@ -37,4 +37,10 @@ def _cache_dir() -> str:
 
 nb.config.CACHE_DIR = _cache_dir()
 
-__all__ = ["nb"]
+
+def njit(**options):
+    """``numba.njit(**options)`` with ``error_model="numpy"`` (module docstring)."""
+    return nb.njit(error_model="numpy", **options)
+
+
+__all__ = ["nb", "njit"]

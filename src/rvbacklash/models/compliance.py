@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 
 PALMGREN_COEFFICIENT = 3.84e-5  # [mm N^-0.9 mm^0.8] of Palmgren's roller formula
 PALMGREN_EXPONENT = 0.9
@@ -19,7 +19,7 @@ RELATIVE_RADIUS_CAP = 10.0  # near-conformal contacts: relative radius capped at
 
 # --- Hertz line contact (Johnson, Contact Mechanics, Cambridge University Press 1985, ch. 4) ----
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def contact_modulus_n_per_mm2(e1_gpa, nu1, e2_gpa, nu2):
     """Contact modulus E* of two elastic bodies: 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2.
 
@@ -31,7 +31,7 @@ def contact_modulus_n_per_mm2(e1_gpa, nu1, e2_gpa, nu2):
     return 1.0 / ((1.0 - nu1 * nu1) / (e1_gpa * 1e3) + (1.0 - nu2 * nu2) / (e2_gpa * 1e3))
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def relative_radius_mm(r1_mm, r2_mm):
     """Relative radius of curvature of two cylinders in line contact: 1/R = 1/R1 + 1/R2.
 
@@ -45,7 +45,7 @@ def relative_radius_mm(r1_mm, r2_mm):
     return 1.0 / c if c != 0.0 else math.inf
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def capped_relative_radius_mm(r1_mm, r2_mm, cap_mm):
     """The relative radius, limited to ``cap_mm`` where the contact is near-conformal or worse.
 
@@ -59,7 +59,7 @@ def capped_relative_radius_mm(r1_mm, r2_mm, cap_mm):
     return r
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def line_contact_half_width_mm(force_n, length_mm, radius_mm, e_star_n_per_mm2):
     """Half-width of a Hertz line contact: a = sqrt(4 P R / (pi E*)), P = F / L.
 
@@ -72,7 +72,7 @@ def line_contact_half_width_mm(force_n, length_mm, radius_mm, e_star_n_per_mm2):
     return math.sqrt(4.0 * force_n * radius_mm / (math.pi * length_mm * e_star_n_per_mm2))
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def line_contact_peak_pressure_mpa(force_n, length_mm, half_width_mm):
     """Peak Hertz pressure of a line contact: p0 = 2 P / (pi a), P = F / L.
 
@@ -82,7 +82,7 @@ def line_contact_peak_pressure_mpa(force_n, length_mm, half_width_mm):
     return 2.0 * force_n / (math.pi * length_mm * half_width_mm)
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def johnson_line_approach_um(force_n, length_mm, body1_radius_mm, e1_gpa, nu1, body2_radius_mm, e2_gpa, nu2,
                              relative_radius):
     """Elastic approach of two cylinders in line contact (distance between their axes):
@@ -106,7 +106,7 @@ def johnson_line_approach_um(force_n, length_mm, body1_radius_mm, e1_gpa, nu1, b
     return 2.0 * p / math.pi * s * 1e3
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def johnson_law_a_um_per_n(length_mm, body1_radius_mm, e1_gpa, nu1, body2_radius_mm, e2_gpa, nu2, relative_radius):
     """Coefficient a of Johnson's approach written as delta = F (a - b ln F) [um, N].
 
@@ -123,7 +123,7 @@ def johnson_law_a_um_per_n(length_mm, body1_radius_mm, e1_gpa, nu1, body2_radius
     return 2.0 / (math.pi * length_mm) * s * 1e3
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def johnson_law_b_um_per_n(length_mm, e1_gpa, nu1, e2_gpa, nu2):
     """Coefficient b of Johnson's approach delta = F (a - b ln F): b = 1 / (pi L E*) [um/N].
 
@@ -131,7 +131,7 @@ def johnson_law_b_um_per_n(length_mm, e1_gpa, nu1, e2_gpa, nu2):
     return 1e3 / (math.pi * length_mm * contact_modulus_n_per_mm2(e1_gpa, nu1, e2_gpa, nu2))
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def palmgren_line_approach_um(force_n, length_mm):
     """Palmgren's approach of a steel roller on a steel raceway: delta = 3.84e-5 Q^0.9 / L^0.8 [mm].
 
@@ -145,13 +145,13 @@ def palmgren_line_approach_um(force_n, length_mm):
     return PALMGREN_COEFFICIENT * force_n ** PALMGREN_EXPONENT / length_mm ** 0.8 * 1e3
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def palmgren_law_a(length_mm):
     """Coefficient a of Palmgren's approach written as delta = a Q^0.9 [um, N]: a = 3.84e-2 / L^0.8."""
     return PALMGREN_COEFFICIENT / length_mm ** 0.8 * 1e3
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def law_approach_um(force_n, a, b, n):
     """The contact law every contact of the kernel uses: delta = F^n (a - b ln F) [um].
 
@@ -163,7 +163,7 @@ def law_approach_um(force_n, a, b, n):
 
 # --- the pin-centre curve and the disc flank --------------------------------------------------
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def pin_centre_curve_radius_mm(phi_rad, pin_circle_radius_mm, k1, pins):
     """Signed radius of curvature of the pin-centre curve C at the pin with phase phi:
 
@@ -184,7 +184,7 @@ def pin_centre_curve_radius_mm(phi_rad, pin_circle_radius_mm, k1, pins):
     return pin_circle_radius_mm * s ** 1.5 / den
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def flank_radius_mm(curve_radius_mm, generating_radius_mm):
     """Signed radius of curvature of the disc flank: rho = rho_C - r_g.
 
@@ -248,7 +248,7 @@ def parallel_stiffness(*stiffnesses: float) -> float:
 
 # --- friction: the branches of the loop -------------------------------------------------------
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def elastic_torque_nm(torque_nm, increasing, friction_nm, friction_fraction):
     """Torque carried by the elastic chain on a branch of the loop, Coulomb friction at the output:
 
@@ -271,7 +271,7 @@ def elastic_torque_nm(torque_nm, increasing, friction_nm, friction_fraction):
     return (torque_nm + friction_nm) / (1.0 - friction_fraction)
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def applied_torque_nm(elastic_nm, increasing, friction_nm, friction_fraction):
     """Inverse of ``elastic_torque_nm``: the applied torque that holds T_el on a branch [N m]."""
     if increasing:
@@ -450,7 +450,7 @@ def disc_translation_factor(crank_circle_radius_mm: float, disc_pitch_radius_mm:
     return 1.0 + (crank_circle_radius_mm / disc_pitch_radius_mm) ** 2
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def pin_radial_closure(phi_rad, k1):
     """Closure of the pin at phase phi per unit translation of the disc along its eccentric [um/um]:
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 import numpy as np
 from scipy import optimize
 
@@ -137,7 +137,7 @@ BAND_WIDE, BAND_NARROW, RHO_TIGHT_MM = 0.10, 0.005, 3.0
 WORK_ROWS = 4  # stage_play's scratch (stage_work): pin centres, estimates, closing distances
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def stage_work(discs, zp):
     """Scratch space of stage_play and unit_gaps."""
     return np.empty((WORK_ROWS, discs, zp))
@@ -191,7 +191,7 @@ def _curve_d2_exact(a: float, rg: float, zc: int, t: np.ndarray) -> np.ndarray:
     return np.stack([np.cos(u) * qx - np.sin(u) * qy, np.sin(u) * qx + np.cos(u) * qy], axis=-1)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def curve_point(a, rg, zc, t):
     """C(t) of geometry.cycloid.PinCentreCurve and its first and second derivatives [mm]."""
     ct, st = math.cos(t), math.sin(t)
@@ -208,7 +208,7 @@ def curve_point(a, rg, zc, t):
     return x, y, cu * px - su * py, su * px + cu * py, cu * qx - su * qy, su * qx + cu * qy
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def curve_distance(a, rg, zc, qx, qy, t0):
     """(signed distance [um] of the point (qx, qy) [mm] from the pin-centre curve, positive away
     from the disc; the curve parameter t of its foot; the unit outward normal there (nx, ny)):
@@ -234,7 +234,7 @@ def curve_distance(a, rg, zc, qx, qy, t0):
     return ((qx - x) * nx + (qy - y) * ny) * 1e3, t, nx, ny
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def turned_gap(px, py, beta, base_um, a, rg, zc, t0):
     """(gap [um], d gap / d beta [um/rad], foot parameter) of a pin at (px, py) in its disc's frame
     [mm] once the disc has turned by beta [rad]: base_um (eq_d - rho_j + cl_j / 2) plus its signed
@@ -247,7 +247,7 @@ def turned_gap(px, py, beta, base_um, a, rg, zc, t0):
     return base_um + dist, (nx * qy - ny * qx) * 1e3, t
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, t0):
     """Exact gap [um] of pin j to disc d turned by beta [rad]: the pin centre with all its errors
     in the disc frame, its signed distance from the modified pin-centre curve (the compiled form
@@ -256,7 +256,7 @@ def exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, 
     return turned_gap(px, py, beta, eq[d] - rho[j] + 0.5 * cl[j], a, rp + md[d] * 1e-3, zc, t0)[0]
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def pin_in_disc(cpsi, spsi, ex, ey, cang, sang, dr_j, dt_j, tooth, a, rp, ux_d, uy_d, da_d):
     """Centre of a pin with all its errors in the frame of its disc (not turned) [mm]: the pin at
     angle psi (cos, sin) displaced radially by dr and tangentially by dt [um], less the disc
@@ -274,7 +274,7 @@ def pin_in_disc(cpsi, spsi, ex, ey, cang, sang, dr_j, dt_j, tooth, a, rp, ux_d, 
     return ca * px - sa * py, sa * px + ca * py
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da):
     """Centre of pin j with all its errors in the frame of disc d (not turned) [mm], at crank angle chi."""
     chi_d = chi + 2.0 * math.pi * d / discs
@@ -284,7 +284,7 @@ def pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da):
                        math.sin(chi_d / zc), dr[j], dt[j], teeth[d, k], a, rp, ux[d], uy[d], da[d])
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def _contact_rotation(c0, p1, p2, dt_mm, start, sgn):
     """Smallest x > 0 such that the disc turned by start + sgn x brings the pin to the distance
     dt_mm from the circle's centre: D(beta)^2 = c0 - 2 (p1 cos beta + p2 sin beta); inf if never."""
@@ -306,7 +306,7 @@ def _contact_rotation(c0, p1, p2, dt_mm, start, sgn):
     return best
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def _contact_rotation_bound(c0, p1, p2, dt_mm, side, cs, ss, sgn):
     """A lower bound [rad] of _contact_rotation(c0, p1, p2, dt_mm, start, sgn), without its
     trigonometry (cs, ss: cos and sin of start; side: the pin's SIDE). h(beta) = SIDE (D^2(beta) -
@@ -321,7 +321,7 @@ def _contact_rotation_bound(c0, p1, p2, dt_mm, side, cs, ss, sgn):
     return 2.0 * h / (rate + math.sqrt(rate * rate + 4.0 * math.sqrt(p1 * p1 + p2 * p2) * h))
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def _linear_maxmin(gap, lever, lo, hi, discs, zp):
     """The rotation maximising min_j (gap_j - lever_j beta) (active-set iteration on the lines)."""
     beta = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
@@ -345,7 +345,7 @@ def _linear_maxmin(gap, lever, lo, hi, discs, zp):
     return beta
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def _circle_terms(c, qx, qy, md_d):
     """(c0, p1, p2) [mm^2] of a pin's distance from its osculating circle's centre as the disc turns
     by beta: D^2(beta) = c0 - 2 (p1 cos beta + p2 sin beta); c its mesh_table row, (qx, qy) its
@@ -355,7 +355,7 @@ def _circle_terms(c, qx, qy, md_d):
     return qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy, qy * ox - qx * oy
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def _osculating_gap(c, qx, qy, tgt, md_d, cb, sb):
     """(gap [um], lever [um/rad]) of one pin on its osculating circle once the disc has turned by
     beta (cb, sb: cos and sin of beta); tgt the distance at which its gap closes [mm] (see
@@ -365,7 +365,7 @@ def _osculating_gap(c, qx, qy, tgt, md_d, cb, sb):
     return c[SIDE] * ((c[RHO] - tgt) + (dist - c[RHO])) * 1e3, -c[SIDE] * 1e3 * (p1 * sb - p2 * cb) / dist
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def _screened_contact(c, qx, qy, tgt, md_d, est, first_lin, first, bc, cbc, sbc, sgn):
     """Contact rotation [rad] of one pin on its osculating circle from bc on side sgn
     (_contact_rotation), or inf when screened out: its linear estimate est is beyond 3 first_lin
@@ -380,7 +380,7 @@ def _screened_contact(c, qx, qy, tgt, md_d, est, first_lin, first, bc, cbc, sbc,
     return _contact_rotation(c0, p1, p2, tgt, bc, sgn)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
     """(value, lever) of the lowest falling gap and of the lowest rising gap at rotation beta [um,
     um/rad], every gap on its osculating circle (see stage_play)."""
@@ -397,7 +397,7 @@ def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
     return fall, lf, rise, lr
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
     """(max over beta of min_j gap_j(beta) [um], the beta [rad]) on the osculating circles
     (stage_play): negative, the unit's preload.
@@ -440,7 +440,7 @@ def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
     return best, best_beta
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work):
     """Every pin's gap [um] and lever [um/rad] at beta = 0 on its osculating circle (see stage_play)
     into gap/lever (discs, z_p); work[0], work[1] receive the pin centres in the disc frame, work[3]
@@ -475,7 +475,7 @@ def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux
     return lo, hi, flat
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
                out, play=True):
     """Play of the cycloid stage of one unit; out = [play_ccw, play_cw, preload_um, pin_ccw, disc_ccw,
@@ -589,7 +589,7 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
     return
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def exact_disc_gaps(d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, out):
     """exact_gap_um of every pin of disc d [um] into out (z_p)."""
     chi_d = chi + 2.0 * math.pi * d / discs

@@ -43,7 +43,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.design.structure import StructureInputs
 from rvbacklash.errors import InputError
@@ -292,7 +292,7 @@ def radial_stiffness_n_per_um(model: ElasticModel, st: StructureInputs) -> float
 
 # --- the contact law and a set of contacts -----------------------------------------------------
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def law_step(delta_um, a, b, n, f0):
     """One step towards the force of a contact closed by delta > 0 under delta = F^n (a - b ln F):
     (F [N], dF/ddelta [N/um], bound of F's relative error after the step).
@@ -329,7 +329,7 @@ def law_step(delta_um, a, b, n, f0):
     return f - step, inv, 0.5 * b * inv * r * r
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def law_force(delta_um, a, b, n, f0):
     """(F [N], dF/ddelta [N/um]) of a contact closed by delta > 0: ``law_step`` to convergence."""
     f, df, err = law_step(delta_um, a, b, n, f0)
@@ -340,7 +340,7 @@ def law_force(delta_um, a, b, n, f0):
     return f, df
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def _settled_force(d, a, b, n, f0):
     """law_step from f0, repeated while its error bound is above SETTLE (set_load)."""
     f, df, e = law_step(d, a, b, n, f0)
@@ -351,7 +351,7 @@ def _settled_force(d, a, b, n, f0):
     return f, df, e
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True, inline="always")
 def set_load(x, gaps, levers, law_a, b, n, scale, m, work, npos=-1, nneg=0):
     """(load, dload/dx, bound of the load's error, scale sum |F_j levers_j|) of the first m contacts
     of a set at x: contact j closes by delta_j = levers_j x - gaps_j and pushes back with
@@ -389,7 +389,7 @@ def set_load(x, gaps, levers, law_a, b, n, scale, m, work, npos=-1, nneg=0):
     return g * scale, dg * scale, err * scale, gabs * scale
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def closure_order(gaps, levers, m):
     """(order, npos, nneg): the contacts with levers > 0 by gap / lever rising, then those with
     levers < 0 by gap / lever falling, then those without a lever (set_load's runs). Insertion
@@ -423,7 +423,7 @@ def closure_order(gaps, levers, m):
     return order, npos, nneg
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def set_bounds(gaps, levers, m, out):
     """out = [hi, j_hi, lo, j_lo, tiny]: the first contact turning positive (smallest gap/lever over
     lever > 0) and negative (largest over lever < 0). hi >= lo: free between them; hi < lo:
@@ -460,7 +460,7 @@ def set_bounds(gaps, levers, m, out):
     out[4] = tiny
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, guess, rtol=1e-11, npos=-1, nneg=0,
               slope=None):
     """The coordinate x at which the contact set carries ``load`` (its sign: the direction).
@@ -566,7 +566,7 @@ def solve_set(gaps, levers, law_a, b, n, scale, m, bounds, work, load, side, gue
 BOUND_CONTACTS = 6  # pins assumed to share +-T_R when bounding the rotation (prepare_pins)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def pin_law_a(phi, c):
     """Coefficient a of pin j's contact law [um/N^n] at phase phi = psi_j - chi_d: Johnson's
     approach with the relative radius of the pin and the flank (``flank_radius_mm`` of
@@ -582,7 +582,7 @@ def pin_law_a(phi, c):
                                      c.disc_e_gpa, c.disc_nu, r_rel)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def pin_phase(index, chi, zp, discs):
     """Phase phi = psi_j - chi_d [rad] of the pin at flat index d z_p + j."""
     d = index // zp
@@ -590,7 +590,7 @@ def pin_phase(index, chi, zp, discs):
     return 2.0 * math.pi * j / zp - (chi + 2.0 * math.pi * d / discs)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def fill_pin_law(chi, c, out):
     """pin_law_a of every pin of every disc at crank angle chi [rad] into out (discs, z_p)."""
     discs, zp = out.shape
@@ -599,7 +599,7 @@ def fill_pin_law(chi, c, out):
             out[d, j] = pin_law_a(pin_phase(d * zp + j, chi, zp, discs), c)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def pin_law_table(c, zp, discs, steps):
     """pin_law_a of every pin (flat index d z_p + j) at the crank angles the contact model draws,
     chi_s = 2 pi / z_p (s + 1/2) / steps (contact_source.CRANK_STEPS): (steps, discs z_p), the
@@ -610,7 +610,7 @@ def pin_law_table(c, zp, discs, steps):
     return out
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def unit_pin_laws(chi, c, zp, discs, table):
     """pin_law_a of every pin (flat) of a unit at crank angle chi: its row of ``pin_law_table``
     when chi is one of the table's angles (exactly), else computed."""
@@ -624,11 +624,14 @@ def unit_pin_laws(chi, c, zp, discs, table):
     return out.ravel()
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def _pins_bound(g, lev, laws, bounds, c, load):
-    """A rotation beyond the one at which the pins carry ``load`` (+-T_R): the BOUND_CONTACTS pins
-    with the largest levers on the loaded side carry it alone at x_S; beyond the other side's last
-    release nothing pulls back; so max(x_S, lo) (load > 0) bounds the rotation."""
+    """A rotation beyond the one at which the pins carry ``load`` (+-T_R), in closed form: if the
+    k pins with the largest levers L_j on the loaded side (k <= BOUND_CONTACTS) each carry an
+    equal share, F_j = |load| / (k 1e-6 L_j), their closures delta(F_j) (the contact law) are reached
+    at x_k = max_j (g_j + delta(F_j)) / L_j, where they carry the load; the other pins on the
+    loaded side add to it, and beyond the other side's last release nothing pulls back; so
+    max(min_k x_k, lo) (load > 0) bounds the rotation (no solve)."""
     m = g.size
     k = min(BOUND_CONTACTS, m)
     idx = np.full(k, -1)
@@ -643,29 +646,25 @@ def _pins_bound(g, lev, laws, bounds, c, load):
             for q in range(k - 1, pos, -1):
                 idx[q] = idx[q - 1]
             idx[pos] = j
-    cnt = 0
-    for q in range(k):
-        if idx[q] >= 0:
-            cnt += 1
-    sg = np.empty(cnt)
-    sl = np.empty(cnt)
-    sa = np.empty(cnt)
-    for q in range(cnt):
-        sg[q] = g[idx[q]]
-        sl[q] = lev[idx[q]]
-        sa[q] = laws[idx[q]]
-    sb = np.empty(5)
-    set_bounds(sg, sl, cnt, sb)
-    # a bound needs no 1e-11: solved to 1e-4 of the load, then moved on by 1e-3 of its travel from
-    # the set's first contact (a load error of at most 2e-4, residual and forces' error bound, moves
-    # a stiffening set's root by < 2e-4 of that travel)
-    x = solve_set(sg, sl, sa, c.law_b, c.law_n, 1e-6, cnt, sb, np.zeros(cnt), load, 1.0, np.nan, 1e-4)
+    best = np.inf
+    for kk in range(1, k + 1):
+        if idx[kk - 1] < 0:
+            break
+        x = 0.0
+        for q in range(kk):
+            j = idx[q]
+            lv = abs(lev[j])
+            # in y = x sign(load): (g_j + delta) / |L_j| on either side
+            xj = (g[j] + cm.law_approach_um(abs(load) / (kk * 1e-6 * lv), laws[j], c.law_b, c.law_n)) / lv
+            x = max(x, xj) if q > 0 else xj
+        best = min(best, x)
+    best += 1e-12 * abs(best)  # rounding
     if load > 0.0:
-        return max(x + 1e-3 * abs(x - sb[0]), bounds[2])
-    return min(x - 1e-3 * abs(x - sb[2]), bounds[0])
+        return max(best, bounds[2])
+    return min(-best, bounds[0])
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     """The unit's pin contacts referred to the output (levers / k), with their contact-law
     coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, shifted
@@ -715,7 +714,7 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
             npos, nneg)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def prepare_rollers(crank_clearance_um, roller_cos, c):
     """One crank bearing's rollers: gap G_r / 2 each, lever cos(psi_i): (gaps, levers, law_a, count,
     bounds, work)."""
@@ -727,7 +726,7 @@ def prepare_rollers(crank_clearance_um, roller_cos, c):
     return g, roller_cos, la, z, bounds, np.zeros(z)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def prepare_support(c):
     """One crank support (tapered roller) bearing's rollers under a radial load, axially held (the
     two of a crank face each other and carry equal loads, so their induced axial forces cancel):
@@ -750,7 +749,7 @@ def prepare_support(c):
     return g, lv, la, z, bounds, np.zeros(z), np.full((3, SUPPORT_MEMO), np.nan)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def _warm_solve(st, load, s, b, n, scale, state, i):
     """A roller set's deflection under ``load`` (side s at zero load), started from the last
     solution under a load of the same sign: state[i] (+) or state[i + 1] (-), updated."""
@@ -762,7 +761,7 @@ def _warm_solve(st, load, s, b, n, scale, state, i):
     return x
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def solve_pins(pins, load, side, guess, c, slope=None):
     """The pins' output angle x [rad] at chain torque ``load`` (``solve_set``; at 0 the dead band's
     edge on ``side``). With the discs translating (docs/elastic.md): each disc q also moves by y_q
@@ -824,7 +823,7 @@ def solve_pins(pins, load, side, guess, c, slope=None):
     return x
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def support_deflection_um(t_el, s, support, c, state):
     """Radial deflection of the support bearings [um] when the chain carries t_el [N m] (side s at
     0): from the support set's memo when this torque was solved before, else solved (a symmetric
@@ -851,7 +850,7 @@ def support_deflection_um(t_el, s, support, c, state):
     return ds
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, out):
     """Output angle of each element [rad] (ELEMENTS order) when the chain carries t_el [N m];
     at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state`` (N_STATE,):
@@ -861,6 +860,14 @@ def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, ou
     then the pins' last load and stiffness for positive and negative loads (solve_set's slope);
     updated. A translating disc's dead-band edge is read at TINY_TORQUE (its radial balance needs
     a load direction)."""
+    s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
+    support_um = support_deflection_um(t_el, s, support, c, state) if c.support_rollers > 0.0 else 0.0
+    _chain_angles(t_el, side, pins, rollers, support_um, backlash1_rad, c, state, out)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def _chain_angles(t_el, side, pins, rollers, support_um, backlash1_rad, c, state, out):
+    """``chain_angles`` with the support bearings' deflection given [um] (``loop_points``)."""
     s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
     k = 0 if s > 0.0 else 2
     x = solve_pins(pins, t_el, s, state[k], c, state[10 + k:12 + k])
@@ -885,41 +892,64 @@ def chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, ou
     out[2] = 0.5 * s * backlash1_rad + t_el / c.involute_stiffness_nm_per_rad
     out[3] = t_el / c.structure_stiffness_nm_per_rad
     out[4] = t_el * c.crank_compliance_rad_per_nm
-    out[5] = 0.0
-    if c.support_rollers > 0.0:
-        out[5] = support_deflection_um(t_el, s, support, c, state) * c.bearing_angle_rad_per_um
+    out[5] = support_um * c.bearing_angle_rad_per_um
     out[6] = t_el * c.carrier_compliance_rad_per_nm
     out[7] = t_el * c.main_bearing_compliance_rad_per_nm
 
 
-@nb.njit(nogil=True, cache=True)
-def branch_angles(torque_nm, branch, pins, rollers, support, backlash1_rad, c, state, out):
-    """Element angles [rad] on the rising (RISE: load+, unload-) or falling (FALL: load-, unload+)
-    branch at applied torque T, in the steady loop 0 -> +T_R -> 0 -> -T_R -> 0: the output sticks
-    at the turning point until friction is overcome; where the chain's torque passes 0 the value
-    is the end the branch arrives from (the jump through the dead bands follows)."""
+@njit(nogil=True, cache=True)
+def branch_point(torque_nm, branch, c):
+    """(chain torque T_el [N m], side) on the rising (RISE: load+, unload-) or falling (FALL: load-,
+    unload+) branch at applied torque T, in the steady loop 0 -> +T_R -> 0 -> -T_R -> 0: the output
+    sticks at the turning point until friction is overcome; where the chain's torque passes 0 the
+    side is the end the branch arrives from (the jump through the dead bands follows)."""
     tr = c.rated_torque_nm
     tf, mu = c.friction_nm, c.friction_fraction
     if branch == RISE:
         stick = cm.applied_torque_nm(cm.elastic_torque_nm(-tr, False, tf, mu), True, tf, mu)
         if torque_nm < stick:  # still held where the falling branch left it at -T_R
-            chain_angles(cm.elastic_torque_nm(-tr, False, tf, mu), 1.0, pins, rollers, support, backlash1_rad, c,
-                         state, out)
-        else:
-            chain_angles(cm.elastic_torque_nm(torque_nm, True, tf, mu), -1.0, pins, rollers, support, backlash1_rad,
-                         c, state, out)
-    else:
-        stick = cm.applied_torque_nm(cm.elastic_torque_nm(tr, True, tf, mu), False, tf, mu)
-        if torque_nm > stick:
-            chain_angles(cm.elastic_torque_nm(tr, True, tf, mu), -1.0, pins, rollers, support, backlash1_rad, c,
-                         state, out)
-        else:
-            chain_angles(cm.elastic_torque_nm(torque_nm, False, tf, mu), 1.0, pins, rollers, support, backlash1_rad,
-                         c, state, out)
+            return cm.elastic_torque_nm(-tr, False, tf, mu), 1.0
+        return cm.elastic_torque_nm(torque_nm, True, tf, mu), -1.0
+    stick = cm.applied_torque_nm(cm.elastic_torque_nm(tr, True, tf, mu), False, tf, mu)
+    if torque_nm > stick:
+        return cm.elastic_torque_nm(tr, True, tf, mu), -1.0
+    return cm.elastic_torque_nm(torque_nm, False, tf, mu), 1.0
 
 
-@nb.njit(nogil=True, cache=True)
-def loop_figures(pins, rollers, support, backlash1_rad, c, state, out):
+@njit(nogil=True, cache=True)
+def branch_angles(torque_nm, branch, pins, rollers, support, backlash1_rad, c, state, out):
+    """Element angles [rad] on a branch at applied torque T (``branch_point``, ``chain_angles``)."""
+    t_el, side = branch_point(torque_nm, branch, c)
+    chain_angles(t_el, side, pins, rollers, support, backlash1_rad, c, state, out)
+
+
+LOOP_POINTS = 10  # the loop's points that the figures read (loop_points)
+
+
+@njit(nogil=True, cache=True)
+def loop_points(support, c):
+    """The points of the loop that ``loop_figures`` reads, in its order (from small to large
+    torques, a torque and its mirror in turn, so that each solve starts from the previous one):
+    (LOOP_POINTS, 3) rows [chain torque T_el [N m], side, the support bearings' deflection there
+    [um]]: zero torque on the falling and the rising branch, +-x T_R on both branches, +-l T_R and
+    +-h T_R loading. The same for every unit of a design: computed once per batch."""
+    tr = c.rated_torque_nm
+    xt = c.measuring_fraction * tr
+    lo, hi = c.rigidity_low * tr, c.rigidity_high * tr
+    out = np.empty((LOOP_POINTS, 3))
+    state = new_state()
+    for q, (torque, branch) in enumerate(((0.0, FALL), (0.0, RISE), (xt, RISE), (-xt, FALL), (xt, FALL), (-xt, RISE),
+                                          (lo, RISE), (-lo, FALL), (hi, RISE), (-hi, FALL))):
+        t_el, side = branch_point(torque, branch, c)
+        s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
+        out[q, 0] = t_el
+        out[q, 1] = side
+        out[q, 2] = support_deflection_um(t_el, s, support, c, state) if c.support_rollers > 0.0 else 0.0
+    return out
+
+
+@njit(nogil=True, cache=True)
+def loop_figures(pins, rollers, points, backlash1_rad, c, state, out):
     """The test-bench figures of a prepared unit into out[0:N_FIGURES] (module docstring):
 
         lost motion = 1/2 [theta(+x T_R, load) + theta(+x T_R, unload)] - 1/2 [theta(-x T_R, load) + theta(-x T_R, unload)]
@@ -928,28 +958,23 @@ def loop_figures(pins, rollers, support, backlash1_rad, c, state, out):
 
     [arcmin, arcmin, N m/arcmin], then the lost motion of each element [arcmin], then each
     element's part of the rigidity's angle span [arcmin] (its compliance share times the span).
-    The points are evaluated from small to large torques so that each solve starts from the
-    previous one, a torque and its mirror in turn (the rollers' solves are shared). ``state``:
-    ``new_state()``; it holds the reach of the pins' solves afterwards."""
-    tr = c.rated_torque_nm
-    xt = c.measuring_fraction * tr
+    ``points``: the design's ``loop_points``. ``state``: ``new_state()``; it holds the reach of the
+    pins' solves afterwards."""
     a = np.empty(N_ELEMENTS)
-    branch_angles(0.0, FALL, pins, rollers, support, backlash1_rad, c, state, a)
-    width = a.sum()
-    branch_angles(0.0, RISE, pins, rollers, support, backlash1_rad, c, state, a)
-    width -= a.sum()
+    width = 0.0
     lm = np.zeros(N_ELEMENTS)
-    for torque, branch, w in ((xt, RISE, 0.5), (-xt, FALL, -0.5), (xt, FALL, 0.5), (-xt, RISE, -0.5)):
-        branch_angles(torque, branch, pins, rollers, support, backlash1_rad, c, state, a)
-        for e in range(N_ELEMENTS):
-            lm[e] += w * a[e]
     span = np.zeros(N_ELEMENTS)
-    for torque, branch, w in ((c.rigidity_low * tr, RISE, -1.0), (-c.rigidity_low * tr, FALL, 1.0),
-                              (c.rigidity_high * tr, RISE, 1.0), (-c.rigidity_high * tr, FALL, -1.0)):
-        branch_angles(torque, branch, pins, rollers, support, backlash1_rad, c, state, a)
+    for q, w in enumerate((1.0, -1.0, 0.5, -0.5, 0.5, -0.5, -1.0, 1.0, 1.0, -1.0)):  # loop_points' rows
+        _chain_angles(points[q, 0], points[q, 1], pins, rollers, points[q, 2], backlash1_rad, c, state, a)
+        if q < 2:
+            width += w * a.sum()
         for e in range(N_ELEMENTS):
-            span[e] += w * a[e]
+            if 2 <= q < 6:
+                lm[e] += w * a[e]
+            elif q >= 6:
+                span[e] += w * a[e]
     total = span.sum()
+    tr = c.rated_torque_nm
     out[LOST_MOTION] = lm.sum() * ARCMIN_PER_RAD
     out[BACKLASH] = width * ARCMIN_PER_RAD
     out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (total * ARCMIN_PER_RAD) if total > 0.0 else np.inf
@@ -958,9 +983,9 @@ def loop_figures(pins, rollers, support, backlash1_rad, c, state, out):
         out[SHARES + e] = span[e] * ARCMIN_PER_RAD
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out,
-                    support=None, table=None):
+                    points=None, table=None):
     """The test-bench figures of one unit (``loop_figures``) from its arrays:
 
     gap_um[d, j]: free gap of pin j to disc d at zero rotation, normal to the profile [um]
@@ -969,32 +994,32 @@ def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, cr
     disc d sits at phase 2 pi j / z_p - chi - 2 pi d / discs: it sets the flank curvature of each
     contact); involute_backlash_rad: the involute stage's backlash at the output [rad] (negative
     read as 0); crank_clearance_um: radial clearance G_r of the crank needle bearings [um]
-    (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i); support: a
-    support set (``prepare_support``) shared by a batch of units of the design (None: its own);
-    table: the design's ``pin_law_table`` (None: the laws computed)."""
+    (negative: preloaded); c: the design's Chain; roller_cos: the rollers' cos(psi_i); points: the
+    design's ``loop_points``, shared by a batch of units (None: computed); table: the design's
+    ``pin_law_table`` (None: the laws computed)."""
     pins = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c, c.radial_stiffness_n_per_um < np.inf, table)
     loop_figures(pins, prepare_rollers(crank_clearance_um, roller_cos, c),
-                 prepare_support(c) if support is None else support, max(involute_backlash_rad, 0.0), c, new_state(),
-                 out)
+                 loop_points(prepare_support(c), c) if points is None else points, max(involute_backlash_rad, 0.0), c,
+                 new_state(), out)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def new_state():
     """chain_angles' state before the first solve: no starts yet."""
     return np.full(N_STATE, np.nan)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def evaluate_units(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, crank_clearance_um, c, roller_cos, out,
                    table=None):
     """``unit_hysteresis`` of n units: gap_um and lever_um_per_rad (n, discs, z_p), the rest (n,);
     out (3, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin]; table: the
     design's ``pin_law_table`` (None: each unit's laws computed)."""
     fig = np.empty(N_FIGURES)
-    support = prepare_support(c)  # the same for every unit: its solves are shared through its memo
+    points = loop_points(prepare_support(c), c)  # the same for every unit
     for i in range(gap_um.shape[0]):
         unit_hysteresis(gap_um[i], lever_um_per_rad[i], chi_rad[i], involute_backlash_rad[i], crank_clearance_um[i],
-                        c, roller_cos, fig, support, table)
+                        c, roller_cos, fig, points, table)
         out[0, i] = fig[LOST_MOTION]
         out[1, i] = fig[BACKLASH]
         out[2, i] = fig[RIGIDITY]
@@ -1064,7 +1089,8 @@ class PreparedUnit:
 
     def figures(self) -> np.ndarray:
         out = np.empty(N_FIGURES)
-        loop_figures(self.pins, self.rollers, self.support, self.b1, self.model.chain, new_state(), out)
+        loop_figures(self.pins, self.rollers, loop_points(self.support, self.model.chain), self.b1, self.model.chain,
+                     new_state(), out)
         return out
 
     def branch(self, torque_nm: float, branch: int) -> np.ndarray:

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH,
@@ -59,7 +59,7 @@ def output_positions(g: ContactGeometry, positions: int, chi0_rad: float = 0.0) 
     return theta, chi0_rad - g.zc * theta
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def crank_fit(hole_disc_um, hole_carrier_um, crank_radius_mm, planets, discs, shift_um, turn_rad):
     """Rigid placement of each disc on the P eccentrics (module docstring): crank-hole position
     errors of the discs (discs, P, 2) and of the carrier (P, 2) [um, carrier frame] -> per disc the
@@ -86,7 +86,7 @@ def crank_fit(hole_disc_um, hole_carrier_um, crank_radius_mm, planets, discs, sh
         turn_rad[d] = cross * 1e-3 / (planets * crank_radius_mm * crank_radius_mm)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def crank_angle_errors(theta, centre_ecc_um, planet_ecc_um, ratio, zp, base_radius_mm, out):
     """Angle error of each crank d chi_k [rad] at output angle theta from the involute stage: the
     centre gear (turning (i - 1) theta against the carrier) and planet k (turning -z_p theta) with
@@ -107,7 +107,7 @@ def crank_angle_errors(theta, centre_ecc_um, planet_ecc_um, ratio, zp, base_radi
         out[k] = (d1 - d2) * 1e-3 / base_radius_mm
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def unit_pins(coef, rp, dr, dt, rho, cl, cx, cy, base):
     """What of a unit's pins does not change as the output turns: each pin centre in the housing
     frame (cx, cy) [mm] and its gap's constant part -rho + cl / 2 [um] (``pin_in_disc``, hoisted)."""
@@ -119,7 +119,7 @@ def unit_pins(coef, rp, dr, dt, rho, cl, cx, cy, base):
         base[j] = -rho[j] + 0.5 * cl[j]
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, ux, uy, da, gap, lever):
     """``models.contact.unit_gaps`` without the pin centres it keeps for the exact solve, the pins'
     constant part hoisted (``unit_pins``): every pin's gap [um] and lever [um/rad] at beta = 0 into
@@ -159,7 +159,7 @@ def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, u
     return lo, hi, flat
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base_radius_mm, crank_radius_mm,
              dr, dt, rho, cl, teeth0, eq, md, ux0, uy0, da, centre_ecc_um, planet_ecc_um, shift_um, turn_rad,
              teeth, ux, uy, dchi, gap, lever, work, res, te_ccw, te_cw, preload, exact):
@@ -215,7 +215,7 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
             preload[n] = 0.0
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def curve_scratch(zp, zc, discs, planets):
     """Scratch arrays of te_curve: teeth, ux, uy, dchi, gap, lever, work, res."""
     return (np.empty((discs, zc)), np.empty(discs), np.empty(discs), np.empty(planets), np.empty((discs, zp)),

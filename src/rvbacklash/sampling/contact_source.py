@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 import numpy as np
 from numpy.random import SeedSequence
 
@@ -94,7 +94,7 @@ def within_zone(problem: Problem, key: str, codes: np.ndarray, params: np.ndarra
         params[i] = (params[i, 0], params[i, 1], z.lower_um, z.upper_um)
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def _normal(streams, f, bm):
     """A standard normal from stream f: the ziggurat, or Box-Muller (Sun et al. Eq. 8) on two
     uniforms of the stream when ``bm``."""
@@ -103,7 +103,7 @@ def _normal(streams, f, bm):
     return stream_normal(streams, f)
 
 
-@nb.njit(nogil=True, cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def draw(streams, f, code, p0, p1, p2, p3, bm, table):
     """One draw of a factor's marginal from stream f of ``streams`` (branches:
     factors.distributions.KERNEL_*); truncated normal by rejection; any other law from its inverse
@@ -127,7 +127,7 @@ def draw(streams, f, code, p0, p1, p2, p3, bm, table):
     return table[i] + w * (table[i + 1] - table[i])
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def draw_many(streams, f, code, p0, p1, p2, p3, bm, table, out, m):
     """out[:m] <- m draws of a factor's marginal from stream f (``draw``, in order): normal and
     truncated-normal laws in one pass with the stream's state in registers (stream_normals)."""
@@ -140,7 +140,7 @@ def draw_many(streams, f, code, p0, p1, p2, p3, bm, table, out, m):
             out[i] = draw(streams, f, code, p0, p1, p2, p3, bm, table)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def unit_scratch(zp, zc, discs):
     """The arrays one unit's errors are drawn into: dr, dt, rho, cl (z_p), teeth (discs, z_c), eq,
     md, ux, uy, da (discs), and the scratch of draw_unit and stage_play (the last: a stream's normals)."""
@@ -151,7 +151,7 @@ def unit_scratch(zp, zc, discs):
             np.empty(4 + 2 * max(zp, zc)))
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def harmonics_trig(n):
     """(4, n): cos theta_k, sin theta_k, cos 2 theta_k, sin 2 theta_k (part_errors.harmonics_table)."""
     out = np.empty((4, n))
@@ -161,7 +161,7 @@ def harmonics_trig(n):
     return out
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx, zp, zc, discs,
               steps, sc):
     """Draw one unit's errors into the arrays of ``sc`` (unit_scratch); returns (crank-angle step,
@@ -230,7 +230,7 @@ def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_i
     return step, lin, last, eq0, md0
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def save_unit(row, step, lin, eq0, md0, sc, zp, zc, discs, stage, crank):
     """One unit's errors into a row of the --save-units record (ContactBlockSource.saved_units)."""
     dr, dt, rho, cl, teeth, eq, md, ux, uy, da = sc[:10]
@@ -258,7 +258,7 @@ def save_unit(row, step, lin, eq0, md0, sc, zp, zc, discs, stage, crank):
     row[c + 1] = crank
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def contact_block(streams, n, bm, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx,
                   a, rp, zc, zp, discs, azc_um, coef, out, save):
     """n units: out[0] backlash of every unit [arcmin], out[1] the same of the units whose cycloid

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.models.contact import stage_play
@@ -71,7 +71,7 @@ class UnitBatch:
         return UnitBatch(*(np.ascontiguousarray(getattr(self, f.name)[index]) for f in fields(self)))
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def draw_units_kernel(streams, n, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx,
                       a, rp, zc, zp, discs, azc_um, coef, gap_out, lever_out, chi_out, inv_out, crank_out, preload_out,
                       save):

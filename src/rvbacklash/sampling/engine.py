@@ -256,6 +256,13 @@ def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | No
         return _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
 
 
+def _bin(value: float, lo: float, scale: float) -> int:
+    """The histogram bin that ``kernels.accumulate`` puts a (valid) value in: 0 underflow,
+    HIST_BINS + 1 overflow."""
+    t = (value - lo) * scale
+    return 0 if t < 0.0 else (HIST_BINS + 1 if t >= HIST_BINS else int(t) + 1)
+
+
 def _task_ranges(n_blocks: int, workers: int, chunk_blocks: int) -> tuple[list[range], list[int]]:
     """The blocks of each task, and the convergence points (blocks folded) they end on.
 
@@ -338,7 +345,12 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
                 moments[c].merge_block(frame["shifts"][c], stats[c])
             run.samples += sizes[b]
             run.n_joint_pass += joint
-        np.add(hist_total, hist, out=hist_total)
+        for c in range(k):  # only the bins between the task's least and greatest value (a few MB less each)
+            valid = [stats[c] for stats, _ in per_block if stats[c, 5] > 0]
+            if valid:
+                lo = _bin(min(s[2] for s in valid), frame["ranges"][c][0], frame["scales"][c])
+                hi = _bin(max(s[3] for s in valid), frame["ranges"][c][0], frame["scales"][c]) + 1
+                np.add(hist_total[c, lo:hi], hist[c, lo:hi], out=hist_total[c, lo:hi])
         next_block = blocks.stop
 
     def fold() -> None:

@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numpy.random import SeedSequence
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 
 ZIGGURAT_R = 3.6541528853610088  # start of the tail (Marsaglia & Tsang 2000, 256 layers)
 ZIGGURAT_V = 4.92867323399e-3  # area of every layer (unnormalised density exp(-x^2/2))
@@ -138,7 +138,7 @@ def block_state(seed: int, block: int, stream: tuple[int, ...] = ()) -> np.ndarr
     return s
 
 
-@nb.njit(inline="always")
+@njit(inline="always")
 def _next(s0, s1, s2, s3):
     """One xoshiro256++ step: (64 random bits, new state)."""
     a = s0 + s3
@@ -153,13 +153,13 @@ def _next(s0, s1, s2, s3):
     return out, s0, s1, s2, s3
 
 
-@nb.njit(inline="always")
+@njit(inline="always")
 def _unit(bits):
     """A uniform in [0, 1) from the top 53 bits."""
     return np.float64(np.int64(bits >> _U11)) * _TO_UNIT
 
 
-@nb.njit(inline="always")
+@njit(inline="always")
 def _normal(s0, s1, s2, s3):
     """One standard normal by the ziggurat: (z, new state)."""
     while True:
@@ -186,7 +186,7 @@ def _normal(s0, s1, s2, s3):
             return sign * x, s0, s1, s2, s3
 
 
-@nb.njit(nogil=True, inline="always")
+@njit(nogil=True, inline="always")
 def _fill(s0, s1, s2, s3, out, m):
     """out[:m] <- standard normals: (new state)."""
     for t in range(m):
@@ -195,7 +195,7 @@ def _fill(s0, s1, s2, s3, out, m):
     return s0, s1, s2, s3
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def standard_normals(state, out):
     """out (n, k), C-contiguous, <- standard normals, sample by sample, factor by factor (the
     draw order of ``linear_normal_block``); ``state`` (4 uint64) is advanced."""
@@ -206,7 +206,7 @@ def standard_normals(state, out):
 CHUNK = 64  # samples whose normals are drawn before they are weighted (a few kB: stays in L1)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def linear_normal_block(state, n, weights, offset, out):
     """out[i] = offset + sum_j z_ij weights[j] (in order j), z standard normal (drawn in the
     order of ``standard_normals``): the linear model with sigma folded into the weights,
@@ -256,7 +256,7 @@ def states_from_generators(generators) -> np.ndarray:
     return out
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def stream_normal(states, f):
     """A standard normal from stream f of ``states`` (advanced in place). A call, not inlined: a
     kernel drawing scalars at many places would otherwise compile the ziggurat at each (tens of
@@ -266,7 +266,7 @@ def stream_normal(states, f):
     return z
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def stream_normals(states, f, p0, p1, lo, hi, out, m):
     """out[:m] <- p0 + p1 z from stream f, each z redrawn until the value lies in [lo, hi] (+-inf:
     a plain normal): the same numbers as m calls of ``stream_normal``, with the state held in
@@ -282,7 +282,7 @@ def stream_normals(states, f, p0, p1, lo, hi, out, m):
     states[f, 0], states[f, 1], states[f, 2], states[f, 3] = s0, s1, s2, s3
 
 
-@nb.njit(nogil=True, inline="always")
+@njit(nogil=True, inline="always")
 def stream_uniform(states, f):
     """A uniform in [0, 1) from stream f of ``states`` (advanced in place)."""
     r, s0, s1, s2, s3 = _next(states[f, 0], states[f, 1], states[f, 2], states[f, 3])

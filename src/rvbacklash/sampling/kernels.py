@@ -10,20 +10,20 @@ from __future__ import annotations
 
 import math
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 import numpy as np
 
 TWO_PI = 2.0 * math.pi
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def box_muller_normal(r1, r2):
     """Sun et al. 2014, Eq. (8) with mu = 0, sigma = 1: z = sqrt(-2 ln R1) sin(2 pi R2).
     R1 is taken as 1 - u, u in [0, 1), so that ln never sees 0."""
     return math.sqrt(-2.0 * math.log(1.0 - r1)) * math.sin(TWO_PI * r2)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def linear_box_muller_block(rng, n, weights, offset, out):
     """out[i] = offset + sum_j z_ij * weights[j] (in order j), each z from two uniforms of
     ``rng`` by Eq. (8): the linear model with sigma folded into the weights."""
@@ -37,7 +37,7 @@ def linear_box_muller_block(rng, n, weights, offset, out):
         out[i] = y
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def box_muller_normals(rng, n, k, out):
     """(n, k) standard normals by Eq. (8), same draw order as ``linear_box_muller_block``."""
     for i in range(n):
@@ -47,7 +47,7 @@ def box_muller_normals(rng, n, k, out):
             out[i, j] = box_muller_normal(r1, r2)
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def accumulate(y, shift, limit, upper, hist, h_lo, h_scale, stats):
     """One block's mergeable summary of one output's values ``y``; NaN marks a sample the output
     does not apply to (e.g. the lost motion of a preloaded unit) and is skipped.
@@ -96,7 +96,7 @@ def accumulate(y, shift, limit, upper, hist, h_lo, h_scale, stats):
     stats[6] = negative
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def count_joint(values, limits, upper):
     """Samples (columns of ``values``, one row per output) that meet every output's limit at
     once; NaN counts as meeting it (the output does not apply to that sample)."""

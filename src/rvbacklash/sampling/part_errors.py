@@ -26,7 +26,7 @@ import functools
 from dataclasses import dataclass
 from statistics import NormalDist
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 import numpy as np
 
 from rvbacklash.problem.contact_errors import IndexedPart
@@ -56,7 +56,7 @@ def harmonics_table(n: int) -> np.ndarray:
     return np.stack([np.cos(th), np.sin(th), np.cos(2 * th), np.sin(2 * th)])
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def harmonic_deviations(ux, uy, cx, cy, s, q, trig, t_out, r_out):
     """t_k and r_k of one part (module docstring) [um] from its harmonic vectors, its per-element
     parts and its ``harmonics_table``."""

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.random import SeedSequence
 
-from rvbacklash._numba import nb
+from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
 from rvbacklash.errors import InputError
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scratch, kinematics, position_table,
@@ -55,7 +55,7 @@ def te_streams(seed: int, block: int, stream: tuple[int, ...] = ()) -> np.ndarra
         [SeedSequence(seed, spawn_key=(*stream, block, N_STREAMS + m)) for m in range(len(KINEMATIC_FACTORS))])])
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def draw_chunk(streams, kin, m, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx, zp, zc,
                discs, planets, crank_radius_mm, sigmas, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, lin, centre,
                planet, shift, turn):
@@ -96,7 +96,7 @@ def draw_chunk(streams, kin, m, long_wave, codes, params, tables, harmonics, lin
         crank_fit(hd, hc, crank_radius_mm, planets, discs, shift[s], turn[s])
 
 
-@nb.njit(nogil=True, cache=True)
+@njit(nogil=True, cache=True)
 def evaluate_chunk(m, coef, chis, thetas, a, rp, zc, zp, discs, azc_um, ratio, base_radius_mm, crank_radius_mm,
                    planets, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, lin, centre, planet, shift, turn, ref_ccw, out):
     """TE_OUTPUTS of m drawn units into out (3, m)."""
