@@ -181,8 +181,10 @@ def order_statistic(hist: Histogram, k: int, cumulative: np.ndarray | None = Non
     return float(hist.lo + (j - 1 + frac) * width)
 
 
-def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95) -> Quantile:
-    """The p-quantile of n samples summarised in ``hist``, with its order-statistic interval."""
+def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95,
+                     cumulative: np.ndarray | None = None) -> Quantile:
+    """The p-quantile of n samples summarised in ``hist``, with its order-statistic interval.
+    ``cumulative``: np.cumsum(hist.counts), if at hand (several quantiles of one histogram)."""
     from scipy import stats
 
     if n == 0:
@@ -192,7 +194,7 @@ def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95
     lo_rank = int(stats.binom.ppf(alpha / 2, n, p))
     hi_rank = int(stats.binom.ppf(1 - alpha / 2, n, p)) + 1
     lo_rank, hi_rank = min(max(lo_rank, 1), n), min(max(hi_rank, 1), n)
-    c = np.cumsum(hist.counts)  # once for the three ranks (2^18 bins)
+    c = np.cumsum(hist.counts) if cumulative is None else cumulative  # once for the three ranks (2^18 bins)
     return Quantile(p, order_statistic(hist, k, c), order_statistic(hist, lo_rank, c),
                     order_statistic(hist, hi_rank, c))
 
@@ -228,8 +230,9 @@ def coarse_histogram(hist: Histogram, n: int, unit: str, bins: int = 200) -> His
     lo = fine_edges[nz[0]] if nz.size else hist.lo
     hi = fine_edges[nz[-1] + 1] if nz.size else hist.hi
     edges = np.linspace(lo, hi, bins + 1)
-    centres = 0.5 * (fine_edges[:-1] + fine_edges[1:])
-    counts, _ = np.histogram(centres, bins=edges, weights=inner)
+    span = slice(nz[0], nz[-1] + 1) if nz.size else slice(0, 0)  # the fine bins between the first and last sample
+    centres = 0.5 * (fine_edges[:-1] + fine_edges[1:])[span]
+    counts, _ = np.histogram(centres, bins=edges, weights=inner[span])
     width = edges[1] - edges[0]
     density = counts / (n * width) if n and width > 0 else np.zeros(bins)
     return HistogramData(unit, tuple(edges.tolist()), tuple(int(c) for c in counts), tuple(density.tolist()),
@@ -263,7 +266,8 @@ def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float |
         ppm = (1.0 - passing / total) * 1e6
     else:
         y, cp, cpk, ppm = None, None, None, None
-    qs = tuple(quantile_with_ci(raw.histogram, n, p) for p in quantiles)
+    cumulative = np.cumsum(raw.histogram.counts) if quantiles else None  # once for every quantile (2^18 bins)
+    qs = tuple(quantile_with_ci(raw.histogram, n, p, cumulative=cumulative) for p in quantiles)
     if n:
         qs = tuple(_clamped(q, m.min, m.max) for q in qs)
     return OutputStatistics(

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from rvbacklash._numba import njit
+from rvbacklash._numba import njit, njit_borrowing
 import numpy as np
 from scipy import optimize
 
@@ -475,7 +475,7 @@ def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux
     return lo, hi, flat
 
 
-@njit(nogil=True, cache=True)
+@njit_borrowing(nogil=True, cache=True)
 def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
                out, play=True):
     """Play of the cycloid stage of one unit; out = [play_ccw, play_cw, preload_um, pin_ccw, disc_ccw,

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from rvbacklash._numba import njit
+from rvbacklash._numba import njit, njit_borrowing
 import numpy as np
 from numpy.random import SeedSequence
 
@@ -161,7 +161,7 @@ def harmonics_trig(n):
     return out
 
 
-@njit(nogil=True, cache=True)
+@njit_borrowing(nogil=True, cache=True)
 def draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx, zp, zc, discs,
               steps, sc):
     """Draw one unit's errors into the arrays of ``sc`` (unit_scratch); returns (crank-angle step,
