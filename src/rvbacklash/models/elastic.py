@@ -43,7 +43,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rvbacklash._numba import njit
+from rvbacklash._numba import njit, njit_borrowing
 from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.design.structure import StructureInputs
 from rvbacklash.errors import InputError
@@ -668,15 +668,15 @@ def _pins_bound(g, lev, laws, bounds, c, load):
 def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     """The unit's pin contacts referred to the output (levers / k), with their contact-law
     coefficients and bounds: (gaps, levers, law_a, count, bounds, work, radial, disc, yw, shifted
-    gaps, shifted bounds, npos, nneg).
+    gaps, shifted bounds, npos, nneg, jac, res).
     Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
     ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
     rotation closes, the tip and root pins); each with its closure per um of its disc's translation
     along the eccentric (``compliance.pin_radial_closure``; 0 when the discs do not translate), its
     disc, and scratch: yw (7, discs) holds the discs' translations [um] (row 0), sums (rows 1-4)
     and the last translations solved under a positive and a negative load (rows 5, 6: the next
-    solve's start), then scratch for the gaps shifted by the translations and their bounds
-    (``solve_pins``). ``table``: the design's ``pin_law_table`` (None: each law computed).
+    solve's start), then scratch for the gaps shifted by the translations and their bounds, and
+    for the translations' Newton system (``solve_pins``). ``table``: the design's ``pin_law_table`` (None: each law computed).
     Without translation the kept contacts are in ``closure_order`` (npos, nneg: its runs; else
     -1, 0)."""
     discs, zp = gap_um.shape
@@ -711,7 +711,7 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
         gk, lk, ak, rk, dk = gk[order], lk[order], ak[order], rk[order], dk[order]
     set_bounds(gk, lk, keep, bounds)
     return (gk, lk, ak, keep, bounds, np.zeros(keep), rk, dk, np.zeros((7, discs)), np.empty(keep), np.empty(5),
-            npos, nneg)
+            npos, nneg, np.empty((discs, discs)), np.empty(discs))
 
 
 @njit(nogil=True, cache=True)
@@ -762,6 +762,33 @@ def _warm_solve(st, load, s, b, n, scale, state, i):
 
 
 @njit(nogil=True, cache=True)
+def solve_in_place(a, b):
+    """b <- x solving a x = b (n x n, a overwritten): Gaussian elimination with partial pivoting
+    (Golub & Van Loan, Matrix Computations, 4th ed., Algorithm 3.4.1). For the discs' translations
+    (n = discs): no allocation, so that the loop's kernel runs without numba's runtime."""
+    n = b.size
+    for k in range(n):
+        p = k
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > abs(a[p, k]):
+                p = i
+        if p != k:
+            for j in range(n):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+            b[k], b[p] = b[p], b[k]
+        for i in range(k + 1, n):
+            f = a[i, k] / a[k, k]
+            for j in range(k + 1, n):
+                a[i, j] -= f * a[k, j]
+            b[i] -= f * b[k]
+    for k in range(n - 1, -1, -1):
+        t = b[k]
+        for j in range(k + 1, n):
+            t -= a[k, j] * b[j]
+        b[k] = t / a[k, k]
+
+
+@njit(nogil=True, cache=True)
 def solve_pins(pins, load, side, guess, c, slope=None):
     """The pins' output angle x [rad] at chain torque ``load`` (``solve_set``; at 0 the dead band's
     edge on ``side``). With the discs translating (docs/elastic.md): each disc q also moves by y_q
@@ -772,7 +799,7 @@ def solve_pins(pins, load, side, guess, c, slope=None):
     last y's, until the residuals are below 1e-10 of the forces. The dead band's edge of a
     translating disc is read at TINY_TORQUE (its radial balance needs a direction). ``slope``:
     solve_set's predictor (fixed discs only)."""
-    pg, pl, pa, pm, pb, pw, pr, pd, py, ge, gb, npos, nneg = pins
+    pg, pl, pa, pm, pb, pw, pr, pd, py, ge, gb, npos, nneg, jac, res = pins
     ky = c.radial_stiffness_n_per_um
     if not ky < np.inf:
         return solve_set(pg, pl, pa, c.law_b, c.law_n, 1e-6, pm, pb, pw, load, side, guess, 1e-11, npos, nneg,
@@ -780,16 +807,17 @@ def solve_pins(pins, load, side, guess, c, slope=None):
     t = side * TINY_TORQUE * c.rated_torque_nm if load == 0.0 else load
     discs = py.shape[1]
     row = 5 if t > 0.0 else 6
-    py[0, :] = py[row, :]  # start from the last solution under a load of the same sign
-    jac = np.empty((discs, discs))
-    res = np.empty(discs)
+    for q in range(discs):  # start from the last solution under a load of the same sign (loops: no temporary)
+        py[0, q] = py[row, q]
     x = guess
     for _ in range(int(c.translation_rounds)):
         for j in range(pm):
             ge[j] = pg[j] - pr[j] * py[0, pd[j]]
         set_bounds(ge, pl, pm, gb)
         x = solve_set(ge, pl, pa, c.law_b, c.law_n, 1e-6, pm, gb, pw, t, side, x)
-        py[1:, :] = 0.0
+        for r in range(1, py.shape[0]):
+            for q in range(discs):
+                py[r, q] = 0.0
         kxx = 0.0
         for j in range(pm):
             if pw[j] > 0.0:
@@ -812,14 +840,15 @@ def solve_pins(pins, load, side, guess, c, slope=None):
             for r in range(discs):
                 jac[q, r] = -py[3, q] * py[3, r] / kxx if kxx > 0.0 else 0.0
             jac[q, q] += py[2, q] + ky
-        step = np.linalg.solve(jac, res)
+        solve_in_place(jac, res)  # res <- the Newton step
         small = True
         for q in range(discs):
-            py[0, q] -= step[q]
-            small = small and abs(step[q]) <= TRANSLATION_STEP_UM
+            py[0, q] -= res[q]
+            small = small and abs(res[q]) <= TRANSLATION_STEP_UM
         if small:  # a last step this small is taken without re-solving x (its effect is below the figures' digits)
             break
-    py[row, :] = py[0, :]
+    for q in range(discs):
+        py[row, q] = py[0, q]
     return x
 
 
@@ -948,8 +977,8 @@ def loop_points(support, c):
     return out
 
 
-@njit(nogil=True, cache=True)
-def loop_figures(pins, rollers, points, backlash1_rad, c, state, out):
+@njit_borrowing(nogil=True, cache=True)
+def loop_figures(pins, rollers, points, backlash1_rad, c, state, out, a):
     """The test-bench figures of a prepared unit into out[0:N_FIGURES] (module docstring):
 
         lost motion = 1/2 [theta(+x T_R, load) + theta(+x T_R, unload)] - 1/2 [theta(-x T_R, load) + theta(-x T_R, unload)]
@@ -959,28 +988,36 @@ def loop_figures(pins, rollers, points, backlash1_rad, c, state, out):
     [arcmin, arcmin, N m/arcmin], then the lost motion of each element [arcmin], then each
     element's part of the rigidity's angle span [arcmin] (its compliance share times the span).
     ``points``: the design's ``loop_points``. ``state``: ``new_state()``; it holds the reach of the
-    pins' solves afterwards."""
-    a = np.empty(N_ELEMENTS)
+    pins' solves afterwards. ``a``: scratch (N_ELEMENTS,). Allocates nothing: compiled without
+    numba's runtime (``njit_borrowing``), it and the solvers it calls keep no reference counts."""
     width = 0.0
-    lm = np.zeros(N_ELEMENTS)
-    span = np.zeros(N_ELEMENTS)
+    for e in range(N_ELEMENTS):
+        out[3 + e] = 0.0  # the elements' lost motion, then their span, accumulated in place [rad]
+        out[SHARES + e] = 0.0
     for q, w in enumerate((1.0, -1.0, 0.5, -0.5, 0.5, -0.5, -1.0, 1.0, 1.0, -1.0)):  # loop_points' rows
         _chain_angles(points[q, 0], points[q, 1], pins, rollers, points[q, 2], backlash1_rad, c, state, a)
         if q < 2:
-            width += w * a.sum()
+            total = 0.0
+            for e in range(N_ELEMENTS):
+                total += a[e]
+            width += w * total
         for e in range(N_ELEMENTS):
             if 2 <= q < 6:
-                lm[e] += w * a[e]
+                out[3 + e] += w * a[e]
             elif q >= 6:
-                span[e] += w * a[e]
-    total = span.sum()
+                out[SHARES + e] += w * a[e]
+    lm = 0.0
+    total = 0.0
+    for e in range(N_ELEMENTS):
+        lm += out[3 + e]
+        total += out[SHARES + e]
     tr = c.rated_torque_nm
-    out[LOST_MOTION] = lm.sum() * ARCMIN_PER_RAD
+    out[LOST_MOTION] = lm * ARCMIN_PER_RAD
     out[BACKLASH] = width * ARCMIN_PER_RAD
     out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (total * ARCMIN_PER_RAD) if total > 0.0 else np.inf
     for e in range(N_ELEMENTS):
-        out[3 + e] = lm[e] * ARCMIN_PER_RAD
-        out[SHARES + e] = span[e] * ARCMIN_PER_RAD
+        out[3 + e] *= ARCMIN_PER_RAD
+        out[SHARES + e] *= ARCMIN_PER_RAD
 
 
 @njit(nogil=True, cache=True)
@@ -1000,7 +1037,7 @@ def unit_hysteresis(gap_um, lever_um_per_rad, chi_rad, involute_backlash_rad, cr
     pins = prepare_pins(gap_um, lever_um_per_rad, chi_rad, c, c.radial_stiffness_n_per_um < np.inf, table)
     loop_figures(pins, prepare_rollers(crank_clearance_um, roller_cos, c),
                  loop_points(prepare_support(c), c) if points is None else points, max(involute_backlash_rad, 0.0), c,
-                 new_state(), out)
+                 new_state(), out, np.empty(N_ELEMENTS))
 
 
 @njit(nogil=True, cache=True)
@@ -1090,7 +1127,7 @@ class PreparedUnit:
     def figures(self) -> np.ndarray:
         out = np.empty(N_FIGURES)
         loop_figures(self.pins, self.rollers, loop_points(self.support, self.model.chain), self.b1, self.model.chain,
-                     new_state(), out)
+                     new_state(), out, np.empty(N_ELEMENTS))
         return out
 
     def branch(self, torque_nm: float, branch: int) -> np.ndarray:
