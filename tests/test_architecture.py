@@ -63,15 +63,17 @@ def test_every_kernel_is_compiled_with_the_numpy_error_model():
     assert seen > 50
 
 
-def test_the_per_unit_contact_kernels_run_without_numba_runtime():
-    """draw_unit and stage_play allocate nothing: compiled without numba's runtime they keep no
-    reference counts (~1 us of the contact model's ~4.9 us per unit, docs/contact.md)."""
+def test_the_per_unit_kernels_run_without_numba_runtime():
+    """draw_unit, stage_play and the elastic loop allocate nothing: compiled without numba's
+    runtime they keep no reference counts (~1 us of the contact model's ~4.9 us per unit, ~2 us
+    of the elastic model's evaluation; rvbacklash._numba)."""
     from numba.core.cpu import CPUTargetOptions
 
     from rvbacklash.models.contact import stage_play
+    from rvbacklash.models.elastic import loop_figures
     from rvbacklash.sampling.contact_source import draw_unit
 
     if not hasattr(CPUTargetOptions, "_nrt"):  # njit_borrowing falls back to njit
         pytest.skip("this numba has no _nrt option")
-    for kernel in (draw_unit, stage_play):
+    for kernel in (draw_unit, stage_play, loop_figures):
         assert kernel.targetoptions.get("_nrt") is False, kernel.__name__

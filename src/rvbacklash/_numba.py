@@ -46,11 +46,13 @@ def njit(**options):
 
 def njit_borrowing(**options):
     """``njit`` for a per-unit kernel that allocates nothing and only reads and writes arrays its
-    caller holds (``contact_source.draw_unit``, ``contact.stage_play``): compiled without numba's
+    caller holds (``contact_source.draw_unit``, ``contact.stage_play``, ``elastic.loop_figures``):
+    compiled without numba's
     runtime (its ``_nrt=False`` option), so with no reference counting at all. Each call of such a
     kernel binds a few dozen arrays (its scratch tuple, its arguments), and each binding cost two
     atomic operations that numba could not prune in a function this size: ~1 us of the contact
-    model's ~4.9 us per unit (draw_unit alone went from 1.75 to 1.0 us). The functions it calls are compiled the same way for it, so they
+    model's ~4.9 us per unit (draw_unit alone went from 1.75 to 1.0 us), ~2 us of the elastic
+    model's ~23 us of evaluation. The functions it calls are compiled the same way for it, so they
     must not allocate either (numba refuses to compile them otherwise). ``_nrt`` is a private
     option of numba (there since 0.40, checked here): without it, this is plain ``njit``."""
     if hasattr(CPUTargetOptions, "_nrt"):
