@@ -441,3 +441,24 @@ def test_contacts_in_closure_order_load_as_in_any_order():
         runs = el.set_load(x, g, lv, la, 2.3e-4, 1.0, 1e-6, m, np.zeros(m), npos, nneg)
         np.testing.assert_allclose(runs, plain, rtol=1e-12, atol=1e-15)
     assert n_closed > 100  # the loads are sums over many closed contacts, not zeros
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_the_pins_bound_holds_with_a_tiny_lever_among_the_largest(model, sign):
+    """_pins_bound: the set carries at least T_R at the bound, also when one of the pins with the
+    largest levers on the loaded side has a tiny lever (its equal share then lies far beyond the end of
+    Johnson's formula, where the solver continues the law by its tangent; read with the bare formula
+    that pin's closure went negative and the bound fell short: 706 of 784 N m)."""
+    c = model.chain
+    lev = sign * np.array([60000.0, 59000.0, 58000.0, 3.0, -60000.0])  # output-referred [um/rad]
+    gaps = np.array([0.0, 0.5, 1.0, 0.0, 0.0])
+    laws = np.full(5, el.pin_law_a(0.3, c))
+    bounds = np.empty(5)
+    el.set_bounds(gaps, lev, 5, bounds)
+    load = sign * c.rated_torque_nm
+    x = el._pins_bound(gaps, lev, laws, bounds, c, load)
+    carried = el.set_load(x, gaps, lev, laws, c.law_b, c.law_n, 1e-6, 5, np.zeros(5))[0]
+    assert sign * carried >= c.rated_torque_nm
+    # and a useful bound: the solved rotation is not far below it
+    solved = el.solve_set(gaps, lev, laws, c.law_b, c.law_n, 1e-6, 5, bounds, np.zeros(5), load, sign, np.nan)
+    assert abs(solved) <= abs(x) < 1.5 * abs(solved)

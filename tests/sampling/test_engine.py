@@ -29,6 +29,27 @@ def test_conditional_outputs_and_joint_yield():
     assert x.moments.n_pass / run.samples == pytest.approx(0.9, abs=0.005)
 
 
+class WithInfinities:
+    """x ~ U(0, 1), every 100th sample +inf (e.g. the rigidity of a unit with no compliance)."""
+
+    outputs = (Output("x", "", "x"),)
+
+    def block(self, b, n):
+        x = block_generator(7, b).random(n)
+        x[::100] = np.inf
+        return x[None, :]
+
+
+def test_infinite_values_land_in_the_overflow_bin():
+    """The pilot's histogram range is read off its finite values; before, an infinite value made it
+    infinite and every bin index NaN."""
+    run = run_blocks(WithInfinities(), 3 * BLOCK_SIZE, workers=2, chunk_blocks=1)
+    h = run.outputs[0].histogram
+    assert np.isfinite(h.lo) and np.isfinite(h.hi)
+    assert h.counts.sum() == 3 * BLOCK_SIZE
+    assert h.counts[-1] == 3 * len(range(0, BLOCK_SIZE, 100))
+
+
 def test_interrupt_from_a_callback_returns_finished_blocks_marked_partial(sun2014_problem):
     src = _linear(sun2014_problem, "default", 1)
 

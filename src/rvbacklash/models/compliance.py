@@ -161,6 +161,19 @@ def law_approach_um(force_n, a, b, n):
     return force_n ** n * (a - b * math.log(force_n))
 
 
+@njit(cache=True)
+def law_approach_continued_um(force_n, a, b, n):
+    """``law_approach_um`` as the elastic solver reads it (``models.elastic.law_step``): Johnson's
+    formula stops increasing at ln F = a/b - 1, so beyond F_lim = exp(a/b - 2), where
+    d(delta)/dF = b, it is continued by that tangent, delta = 2 b F_lim + b (F - F_lim); increasing
+    in F for every F > 0 (a bound built on it stays a bound). Palmgren (b = 0): the law itself.
+    F > 0 [N]; returns [um]."""
+    if b > 0.0 and math.log(force_n) > a / b - 2.0:
+        f_lim = math.exp(a / b - 2.0)
+        return 2.0 * b * f_lim + b * (force_n - f_lim)
+    return law_approach_um(force_n, a, b, n)
+
+
 # --- the pin-centre curve and the disc flank --------------------------------------------------
 
 @njit(cache=True)

@@ -628,7 +628,8 @@ def unit_pin_laws(chi, c, zp, discs, table):
 def _pins_bound(g, lev, laws, bounds, c, load):
     """A rotation beyond the one at which the pins carry ``load`` (+-T_R), in closed form: if the
     k pins with the largest levers L_j on the loaded side (k <= BOUND_CONTACTS) each carry an
-    equal share, F_j = |load| / (k 1e-6 L_j), their closures delta(F_j) (the contact law) are reached
+    equal share, F_j = |load| / (k 1e-6 L_j), their closures delta(F_j) (the contact law as the
+    solver reads it, ``law_approach_continued_um``: a tiny lever's huge share stays huge) are reached
     at x_k = max_j (g_j + delta(F_j)) / L_j, where they carry the load; the other pins on the
     loaded side add to it, and beyond the other side's last release nothing pulls back; so
     max(min_k x_k, lo) (load > 0) bounds the rotation (no solve)."""
@@ -655,7 +656,7 @@ def _pins_bound(g, lev, laws, bounds, c, load):
             j = idx[q]
             lv = abs(lev[j])
             # in y = x sign(load): (g_j + delta) / |L_j| on either side
-            xj = (g[j] + cm.law_approach_um(abs(load) / (kk * 1e-6 * lv), laws[j], c.law_b, c.law_n)) / lv
+            xj = (g[j] + cm.law_approach_continued_um(abs(load) / (kk * 1e-6 * lv), laws[j], c.law_b, c.law_n)) / lv
             x = max(x, xj) if q > 0 else xj
         best = min(best, x)
     best += 1e-12 * abs(best)  # rounding

@@ -223,7 +223,7 @@ class RawRun:
 
 
 def _histogram_range(y: np.ndarray, hint: tuple[float, float] | None) -> tuple[float, float]:
-    y = y[~np.isnan(y)]
+    y = y[np.isfinite(y)]  # an infinite value (a rigid unit's rigidity) goes to the under/overflow bin
     if y.size == 0:
         return hint if hint is not None else (0.0, 1.0)
     m, s = float(np.mean(y)), float(np.std(y))
