@@ -67,7 +67,7 @@ N_FIGURES = 3 + 2 * N_ELEMENTS
 N_STATE = 14  # chain_angles' warm starts, mirrored solves (pins, rollers, support bearings), pins' predictors
 TRANSLATION_ROUNDS = 60.0  # solve_pins' rounds (x solve, Newton step on the translations) at most
 TRANSLATION_STEP_UM = 1e-6  # solve_pins: a Newton step on the translations below this ends the rounds
-SUPPORT_MEMO = 24  # torques remembered by a support set (the loop's figures read ten)
+SUPPORT_MEMO = 24  # torques remembered by a support set (chain_angles' repeated calls)
 TINY_TORQUE = 1e-12  # of T_R: the torque at which a translating disc's dead-band edge is read
 RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
 TINY_LEVER = 1e-3  # of the largest lever: a contact that cannot bound a rotation (set_bounds)
@@ -677,7 +677,8 @@ def prepare_pins(gap_um, lever_um_per_rad, chi, c, every, table=None):
     disc, and scratch: yw (7, discs) holds the discs' translations [um] (row 0), sums (rows 1-4)
     and the last translations solved under a positive and a negative load (rows 5, 6: the next
     solve's start), then scratch for the gaps shifted by the translations and their bounds, and
-    for the translations' Newton system (``solve_pins``). ``table``: the design's ``pin_law_table`` (None: each law computed).
+    for the translations' Newton system (``solve_pins``). ``table``: the design's
+    ``pin_law_table`` (None: each law computed).
     Without translation the kept contacts are in ``closure_order`` (npos, nneg: its runs; else
     -1, 0)."""
     discs, zp = gap_um.shape
@@ -737,8 +738,9 @@ def prepare_support(c):
     Bearing Analysis 5th ed., the load distribution of a radially loaded roller bearing with
     clearance; docs/elastic.md): (gaps, levers, law_a, count, bounds, work, memo). The support
     bearings' deflection is the same function of the chain's torque for every unit of a design:
-    memo (3, SUPPORT_MEMO) keeps the torques, sides and deflections solved, so that a batch of
-    units (``evaluate_units``) solves each torque of the loop once."""
+    memo (3, SUPPORT_MEMO) keeps the torques, sides and deflections solved, so that repeated
+    ``chain_angles`` calls on one set (a unit's loop table) solve each torque once (a batch of
+    units reads the loop's ten from ``loop_points``)."""
     z = int(c.support_rollers)
     lv = np.empty(z)
     for i in range(z):
@@ -960,21 +962,26 @@ LOOP_POINTS = 10  # the loop's points that the figures read (loop_points)
 def loop_points(support, c):
     """The points of the loop that ``loop_figures`` reads, in its order (from small to large
     torques, a torque and its mirror in turn, so that each solve starts from the previous one):
-    (LOOP_POINTS, 3) rows [chain torque T_el [N m], side, the support bearings' deflection there
-    [um]]: zero torque on the falling and the rising branch, +-x T_R on both branches, +-l T_R and
-    +-h T_R loading. The same for every unit of a design: computed once per batch."""
+    (LOOP_POINTS, 4) rows [chain torque T_el [N m], side, the support bearings' deflection there
+    [um], the point's weight in its figure]: zero torque on the falling and the rising branch (the
+    backlash: +1, -1), +-x T_R on both branches (the lost motion: +-1/2), +-l T_R and +-h T_R
+    loading (the rigidity's span: -+1, +-1). The same for every unit of a design: computed once
+    per batch."""
     tr = c.rated_torque_nm
     xt = c.measuring_fraction * tr
     lo, hi = c.rigidity_low * tr, c.rigidity_high * tr
-    out = np.empty((LOOP_POINTS, 3))
+    out = np.empty((LOOP_POINTS, 4))
     state = new_state()
-    for q, (torque, branch) in enumerate(((0.0, FALL), (0.0, RISE), (xt, RISE), (-xt, FALL), (xt, FALL), (-xt, RISE),
-                                          (lo, RISE), (-lo, FALL), (hi, RISE), (-hi, FALL))):
+    for q, (torque, branch, weight) in enumerate(((0.0, FALL, 1.0), (0.0, RISE, -1.0), (xt, RISE, 0.5),
+                                                  (-xt, FALL, -0.5), (xt, FALL, 0.5), (-xt, RISE, -0.5),
+                                                  (lo, RISE, -1.0), (-lo, FALL, 1.0), (hi, RISE, 1.0),
+                                                  (-hi, FALL, -1.0))):
         t_el, side = branch_point(torque, branch, c)
         s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
         out[q, 0] = t_el
         out[q, 1] = side
         out[q, 2] = support_deflection_um(t_el, s, support, c, state) if c.support_rollers > 0.0 else 0.0
+        out[q, 3] = weight
     return out
 
 
@@ -995,8 +1002,9 @@ def loop_figures(pins, rollers, points, backlash1_rad, c, state, out, a):
     for e in range(N_ELEMENTS):
         out[3 + e] = 0.0  # the elements' lost motion, then their span, accumulated in place [rad]
         out[SHARES + e] = 0.0
-    for q, w in enumerate((1.0, -1.0, 0.5, -0.5, 0.5, -0.5, -1.0, 1.0, 1.0, -1.0)):  # loop_points' rows
+    for q in range(LOOP_POINTS):  # loop_points' rows: 2 for the backlash, 4 for the lost motion, 4 for the span
         _chain_angles(points[q, 0], points[q, 1], pins, rollers, points[q, 2], backlash1_rad, c, state, a)
+        w = points[q, 3]
         if q < 2:
             total = 0.0
             for e in range(N_ELEMENTS):
