@@ -169,10 +169,10 @@ def test_osculating_table_is_the_curve_geometry(geo):
     psi = geo.pin_angles
     q = rotate(geo.rp_mm * np.stack([np.cos(psi), np.sin(psi)], -1)[None, None]
                - geo.a_mm * np.stack([np.cos(chi_d), np.sin(chi_d)], -1)[:, :, None], (chi_d / geo.zc)[:, :, None])
-    dist = np.hypot(q[..., 0] - t[..., C.OX], q[..., 1] - t[..., C.OY])
-    tight = t[..., C.RHO] < C.RHO_MAX_MM
-    np.testing.assert_allclose(dist[tight], t[..., C.RHO][tight], rtol=1e-9)
-    assert t[..., C.RHO].min() == pytest.approx(0.13, abs=0.02)  # near the tips C bends with ~0.1 mm radius
+    dist = np.hypot(q[..., 0] - t[:, C.OX], q[..., 1] - t[:, C.OY])  # the table is (chis, column, discs, pins)
+    tight = t[:, C.RHO] < C.RHO_MAX_MM
+    np.testing.assert_allclose(dist[tight], t[:, C.RHO][tight], rtol=1e-9)
+    assert t[:, C.RHO].min() == pytest.approx(0.13, abs=0.02)  # near the tips C bends with ~0.1 mm radius
 
 
 def test_undercut_profile_is_rejected(sun2014_toml):

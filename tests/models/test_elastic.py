@@ -359,7 +359,7 @@ def test_the_elastic_model_draws_the_contact_models_units(problem):
     and its gaps and levers are the contact kernel's (models.contact.unit_gaps), which agree with
     the first-order gaps (linear_gaps_um) away from the tooth tips."""
     from rvbacklash.analysis.simulation import simulate
-    from rvbacklash.models.contact import RHO, mesh_table, unit_arrays, unit_gaps
+    from rvbacklash.models.contact import RHO, mesh_table, stage_work, unit_arrays, unit_gaps
     from rvbacklash.sampling.elastic_source import sample_units
 
     e = simulate(problem, samples=50, seed=3, model="elastic", save_units=5, workers=1)
@@ -374,12 +374,12 @@ def test_the_elastic_model_draws_the_contact_models_units(problem):
         table = mesh_table(g, np.array([re.chi_rad]))[0]
         unit_gaps(table, g.a_mm, g.rp_mm, g.zp, g.discs, g.pitch_radius_um,
                   *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(re)), gap, lever,
-                  np.empty((4, g.discs, g.zp)))
+                  stage_work(g.discs, g.zp))
         np.testing.assert_array_equal(batch.gap_um[k], gap)
         np.testing.assert_array_equal(batch.lever_um_per_rad[k], lever)
         for d in range(g.discs):
             lin_gap, lin_lever = linear_gaps_um(g, re, d)
-            away = table[d, :, RHO] > 3.0  # C gently bent: second-order terms small
+            away = table[RHO, d] > 3.0  # C gently bent: second-order terms small
             np.testing.assert_allclose(gap[d][away], lin_gap[away], atol=0.3)  # second-order terms of the errors
             # near a lever's zero (a pin facing the flank's turn) the second-order terms reach ~3e-3 a z_c:
             # seed 3's unit 1, pin 20 of disc 0: 141 against the linear 273 um/rad (issue 19's draws)

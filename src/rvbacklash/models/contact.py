@@ -134,7 +134,9 @@ RHO_MAX_MM = 1e3  # near an inflection of C its osculating circle is a line: 1 m
 # the osculating circle's error is third order in the displacement over its radius, so a pin on a
 # tightly bent stretch of C (radius below RHO_TIGHT_MM, near the tooth tips) gets the wide band.
 BAND_WIDE, BAND_NARROW, RHO_TIGHT_MM = 0.10, 0.005, 3.0
-WORK_ROWS = 4  # stage_play's scratch (stage_work): pin centres, estimates, closing distances
+# stage_play's scratch (stage_work), each row (discs, z_p): the pin centres (x, y), the contact
+# estimates, the closing distances, and the gaps and levers of _lowest_gaps
+WORK_ROWS = 6
 
 
 @njit(nogil=True, cache=True)
@@ -145,7 +147,9 @@ def stage_work(discs, zp):
 
 def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
     """The osculating circle of the nominal pin-centre curve C at every pin of every disc, at the
-    crank angles ``chis`` [rad]: shape (len(chis), discs, z_p, N_COEF), disc frame [mm].
+    crank angles ``chis`` [rad]: shape (len(chis), N_COEF, discs, z_p), disc frame [mm]. Columns
+    first: the kernels' loops over the pins read each column contiguously, which lets the compiler
+    run them four pins at a time (SIMD).
 
     A nominal pin centre lies on C at parameter T0 = chi_d - psi_j + 2 pi j. There C has the
     centre of curvature (OX, OY) and radius RHO = |C'|^3 / |C' x C''| (do Carmo, Differential
@@ -177,7 +181,7 @@ def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
     out[..., CPSI], out[..., SPSI] = np.cos(g.pin_angles), np.sin(g.pin_angles)
     out[..., CCHI], out[..., SCHI] = np.cos(chi_d)[:, :, None], np.sin(chi_d)[:, :, None]
     out[..., CANG], out[..., SANG] = np.cos(chi_d / g.zc)[:, :, None], np.sin(chi_d / g.zc)[:, :, None]
-    return out
+    return np.ascontiguousarray(np.moveaxis(out, -1, 1))
 
 
 def _curve_d2_exact(a: float, rg: float, zc: int, t: np.ndarray) -> np.ndarray:
@@ -269,7 +273,8 @@ def pin_in_disc(cpsi, spsi, ex, ey, cang, sang, dr_j, dt_j, tooth, a, rp, ux_d, 
     px = cx - off * ex - (ux_d * ex - uy_d * ey) * 1e-3
     py = cy - off * ey - (ux_d * ey + uy_d * ex) * 1e-3
     dl = -tooth * 1e-3 / rp  # a pitch error is a small angle: cos, sin to 4th order
-    cdl, sdl = 1.0 - 0.5 * dl * dl + dl ** 4 / 24.0, dl - dl ** 3 / 6.0
+    dl2 = dl * dl  # (not dl ** 4: a power call would stop unit_gaps' loop from running four pins at a time)
+    cdl, sdl = 1.0 - 0.5 * dl2 + dl2 * dl2 / 24.0, dl - dl2 * dl / 6.0
     ca, sa = cang * cdl - sang * sdl, sang * cdl + cang * sdl
     return ca * px - sa * py, sa * px + ca * py
 
@@ -346,49 +351,56 @@ def _linear_maxmin(gap, lever, lo, hi, discs, zp):
 
 
 @njit(nogil=True, cache=True, inline="always")
-def _circle_terms(c, qx, qy, md_d):
+def _circle_terms(ox, oy, eux, euy, qx, qy, md_d):
     """(c0, p1, p2) [mm^2] of a pin's distance from its osculating circle's centre as the disc turns
-    by beta: D^2(beta) = c0 - 2 (p1 cos beta + p2 sin beta); c its mesh_table row, (qx, qy) its
-    centre in the disc frame [mm], md_d its disc's moving-distance modification [um]."""
-    ox = c[OX] + md_d * 1e-3 * c[EUX]
-    oy = c[OY] + md_d * 1e-3 * c[EUY]
+    by beta: D^2(beta) = c0 - 2 (p1 cos beta + p2 sin beta); (ox, oy) the circle's centre and (eux,
+    euy) its shift per moving distance (mesh_table's OX, OY, EUX, EUY), (qx, qy) the pin's centre
+    in the disc frame [mm], md_d its disc's moving-distance modification [um]."""
+    ox = ox + md_d * 1e-3 * eux
+    oy = oy + md_d * 1e-3 * euy
     return qx * qx + qy * qy + ox * ox + oy * oy, qx * ox + qy * oy, qy * ox - qx * oy
 
 
 @njit(nogil=True, cache=True, inline="always")
-def _osculating_gap(c, qx, qy, tgt, md_d, cb, sb):
-    """(gap [um], lever [um/rad]) of one pin on its osculating circle once the disc has turned by
-    beta (cb, sb: cos and sin of beta); tgt the distance at which its gap closes [mm] (see
-    stage_play and _circle_terms)."""
-    c0, p1, p2 = _circle_terms(c, qx, qy, md_d)
-    dist = math.sqrt(max(c0 - 2.0 * (p1 * cb + p2 * sb), 1e-300))
-    return c[SIDE] * ((c[RHO] - tgt) + (dist - c[RHO])) * 1e3, -c[SIDE] * 1e3 * (p1 * sb - p2 * cb) / dist
-
-
-@njit(nogil=True, cache=True, inline="always")
-def _screened_contact(c, qx, qy, tgt, md_d, est, first_lin, first, bc, cbc, sbc, sgn):
-    """Contact rotation [rad] of one pin on its osculating circle from bc on side sgn
+def _screened_contact(coef, d, j, qx, qy, tgt, md_d, est, first_lin, first, bc, cbc, sbc, sgn):
+    """Contact rotation [rad] of pin j of disc d on its osculating circle from bc on side sgn
     (_contact_rotation), or inf when screened out: its linear estimate est is beyond 3 first_lin
     (unless on a tightly bent stretch of C), it never closes (tgt <= 0), or its lower bound
     (_contact_rotation_bound; cbc, sbc: cos and sin of bc) is beyond the band of ``first``."""
-    if (est > 3.0 * first_lin and c[RHO] >= RHO_TIGHT_MM) or tgt <= 0.0:
+    rho_c = coef[RHO, d, j]
+    if (est > 3.0 * first_lin and rho_c >= RHO_TIGHT_MM) or tgt <= 0.0:
         return np.inf
-    c0, p1, p2 = _circle_terms(c, qx, qy, md_d)
-    band = BAND_WIDE if c[RHO] < RHO_TIGHT_MM else BAND_NARROW
-    if _contact_rotation_bound(c0, p1, p2, tgt, c[SIDE], cbc, sbc, sgn) > first * (1.0 + band):
+    c0, p1, p2 = _circle_terms(coef[OX, d, j], coef[OY, d, j], coef[EUX, d, j], coef[EUY, d, j], qx, qy, md_d)
+    band = BAND_WIDE if rho_c < RHO_TIGHT_MM else BAND_NARROW
+    if _contact_rotation_bound(c0, p1, p2, tgt, coef[SIDE, d, j], cbc, sbc, sgn) > first * (1.0 + band):
         return np.inf
     return _contact_rotation(c0, p1, p2, tgt, bc, sgn)
 
 
 @njit(nogil=True, cache=True)
-def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
+def _lowest_gaps(coef, work, md, discs, zp, beta):
     """(value, lever) of the lowest falling gap and of the lowest rising gap at rotation beta [um,
-    um/rad], every gap on its osculating circle (see stage_play)."""
+    um/rad], every gap on its osculating circle (see stage_play; work: stage_work as unit_gaps
+    left it). Every pin's gap on its circle,
+        gap_j = SIDE ((RHO - tgt_j) + (D_j(beta) - RHO)) 1e3,  lever_j = -d gap_j / d beta,
+    in one pass per disc that the compiler runs four pins at a time (into work[4], work[5]), then
+    the lowest of each side in a second pass."""
     cb, sb = math.cos(beta), math.sin(beta)
+    for d in range(discs):
+        qx, qy, tgt, val, slope = work[0, d], work[1, d], work[3, d], work[4, d], work[5, d]
+        ox_, oy_, eux, euy = coef[OX, d], coef[OY, d], coef[EUX, d], coef[EUY, d]
+        side, rho = coef[SIDE, d], coef[RHO, d]
+        mdd = md[d]
+        for j in range(zp):
+            c0, p1, p2 = _circle_terms(ox_[j], oy_[j], eux[j], euy[j], qx[j], qy[j], mdd)
+            dist = math.sqrt(max(c0 - 2.0 * (p1 * cb + p2 * sb), 1e-300))
+            val[j] = side[j] * ((rho[j] - tgt[j]) + (dist - rho[j])) * 1e3
+            slope[j] = -side[j] * 1e3 * (p1 * sb - p2 * cb) / dist
     fall, rise, lf, lr = np.inf, np.inf, 0.0, 0.0
     for d in range(discs):
+        val, slope = work[4, d], work[5, d]
         for j in range(zp):
-            v, lv = _osculating_gap(coef[d, j], qx_[d, j], qy_[d, j], tgt[d, j], md[d], cb, sb)
+            v, lv = val[j], slope[j]
             if lv > 0.0:
                 if v < fall:
                     fall, lf = v, lv
@@ -398,7 +410,7 @@ def _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta):
 
 
 @njit(nogil=True, cache=True)
-def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
+def _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi):
     """(max over beta of min_j gap_j(beta) [um], the beta [rad]) on the osculating circles
     (stage_play): negative, the unit's preload.
 
@@ -415,7 +427,7 @@ def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
     fl_v, fl_l, rl_v, rl_l = 0.0, 0.0, 0.0, 0.0  # the right end's falling tangent, the left end's rising one
     best, best_beta = -np.inf, beta
     for _ in range(80):
-        fall, lf, rise, lr = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, beta)
+        fall, lf, rise, lr = _lowest_gaps(coef, work, md, discs, zp, beta)
         m = min(fall, rise)
         if m > best:
             best, best_beta = m, beta
@@ -444,28 +456,41 @@ def _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi):
 def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work):
     """Every pin's gap [um] and lever [um/rad] at beta = 0 on its osculating circle (see stage_play)
     into gap/lever (discs, z_p); work[0], work[1] receive the pin centres in the disc frame, work[3]
-    the distance from the circle's centre at which each gap closes. Returns (lo, hi, flat): the
-    linearised free interval of beta [rad] and the smallest gap of a pin without a lever [um]."""
-    qx_, qy_, tgt = work[0], work[1], work[3]
+    the distance from the circle's centre at which each gap closes (work[2]: scratch). Returns (lo,
+    hi, flat): the linearised free interval of beta [rad] and the smallest gap of a pin without a
+    lever [um].
+
+    The pins of a disc are one pass that the compiler runs four at a time (SIMD): each pin's tooth
+    pitch error is gathered first (an indexed load stops the compiler from vectorising a loop), and
+    the free interval is reduced in a second pass."""
+    for d in range(discs):
+        qx_, qy_, tooth_err, tgt, gap_d, lever_d = work[0, d], work[1, d], work[2, d], work[3, d], gap[d], lever[d]
+        tooth, teeth_d = coef[TOOTH, d], teeth[d]
+        for j in range(zp):
+            tooth_err[j] = teeth_d[int(tooth[j])]
+        cpsi, spsi, ex, ey, cang, sang = coef[CPSI, d], coef[SPSI, d], coef[CCHI, d], coef[SCHI, d], coef[CANG, d], \
+            coef[SANG, d]
+        ox_, oy_, eux, euy, side, rho_c = coef[OX, d], coef[OY, d], coef[EUX, d], coef[EUY, d], coef[SIDE, d], \
+            coef[RHO, d]
+        uxd, uyd, dad, eqd, mdd = ux[d], uy[d], da[d], eq[d], md[d]
+        for j in range(zp):
+            qx, qy = pin_in_disc(cpsi[j], spsi[j], ex[j], ey[j], cang[j], sang[j], dr[j], dt[j], tooth_err[j], a, rp,
+                                 uxd, uyd, dad)
+            qx_[j] = qx
+            qy_[j] = qy
+            ox = ox_[j] + mdd * 1e-3 * eux[j]
+            oy = oy_[j] + mdd * 1e-3 * euy[j]
+            dist = math.sqrt((qx - ox) * (qx - ox) + (qy - oy) * (qy - oy))
+            base = eqd - rho[j] + 0.5 * cl[j]
+            gap_d[j] = base + side[j] * (dist - rho_c[j]) * 1e3
+            lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
+            tgt[j] = rho_c[j] - side[j] * base * 1e-3  # the distance D at which the gap is 0
     hi = np.inf
     lo = -np.inf
     flat = np.inf
     for d in range(discs):
         for j in range(zp):
-            c = coef[d, j]
-            qx, qy = pin_in_disc(c[CPSI], c[SPSI], c[CCHI], c[SCHI], c[CANG], c[SANG], dr[j], dt[j],
-                                 teeth[d, int(c[TOOTH])], a, rp, ux[d], uy[d], da[d])
-            qx_[d, j] = qx
-            qy_[d, j] = qy
-            ox = c[OX] + md[d] * 1e-3 * c[EUX]
-            oy = c[OY] + md[d] * 1e-3 * c[EUY]
-            dist = math.sqrt((qx - ox) ** 2 + (qy - oy) ** 2)
-            base = eq[d] - rho[j] + 0.5 * cl[j]
-            g = base + c[SIDE] * (dist - c[RHO]) * 1e3
-            lv = c[SIDE] * (qy * ox - qx * oy) / dist * 1e3
-            gap[d, j] = g
-            lever[d, j] = lv
-            tgt[d, j] = c[RHO] - c[SIDE] * base * 1e-3  # the distance D at which the gap is 0
+            g, lv = gap[d, j], lever[d, j]
             if lv > 1e-9 * azc_um:
                 hi = min(hi, g / lv)
             elif lv < -1e-9 * azc_um:
@@ -511,10 +536,10 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
     if not preloaded:
         # the linear screen can miss a pin facing a tooth tip: its gap bends back (RHO ~ 0.1 mm) and
         # may interfere at every rotation; on the osculating circles every pin must be free at bc
-        fall, _, rise, _ = _lowest_gaps(coef, qx_, qy_, tgt, md, discs, zp, bc)
+        fall, _, rise, _ = _lowest_gaps(coef, work, md, discs, zp, bc)
         preloaded = min(fall, rise) < -PRELOAD_TOL_UM
     if preloaded:  # the deepest interference at the best rotation (or, if it is positive, a free unit after all)
-        m, beta = _max_min_gap(coef, qx_, qy_, tgt, md, discs, zp, gap, lever, lo, hi)
+        m, beta = _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi)
         if m < PRELOAD_TOL_UM:
             out[0] = np.nan
             out[1] = np.nan
@@ -541,7 +566,7 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
         # estimate puts first, then each pin whose lower bound is within the band of the first so far
         lead = np.inf
         if dl >= 0:
-            lead = _screened_contact(coef[dl, jl], qx_[dl, jl], qy_[dl, jl], tgt[dl, jl], md[dl], est[dl, jl],
+            lead = _screened_contact(coef, dl, jl, qx_[dl, jl], qy_[dl, jl], tgt[dl, jl], md[dl], est[dl, jl],
                                      first_lin, lead, bc, cbc, sbc, sgn)
         first = lead
         for d in range(discs):
@@ -549,7 +574,7 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
                 if d == dl and j == jl:
                     est[d, j] = lead
                     continue
-                est[d, j] = _screened_contact(coef[d, j], qx_[d, j], qy_[d, j], tgt[d, j], md[d], est[d, j],
+                est[d, j] = _screened_contact(coef, d, j, qx_[d, j], qy_[d, j], tgt[d, j], md[d], est[d, j],
                                               first_lin, first, bc, cbc, sbc, sgn)
                 first = min(first, est[d, j])
         # the candidates on the exact curve: one Newton step each from their estimate; a second pass
@@ -564,12 +589,12 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
                 rg = rp + md[d] * 1e-3
                 for j in range(zp):
                     x = est[d, j]
-                    band = BAND_WIDE if coef[d, j][RHO] < RHO_TIGHT_MM else BAND_NARROW
+                    band = BAND_WIDE if coef[RHO, d, j] < RHO_TIGHT_MM else BAND_NARROW
                     if x > ref * (1.0 + band) or (rnd == 1 and x <= first * (1.0 + band)):
                         continue
                     px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
                     base = eq[d] - rho[j] + 0.5 * cl[j]
-                    f1, s1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[d, j][T0])
+                    f1, s1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[T0, d, j])
                     if s1 != 0.0:
                         x -= f1 / (sgn * s1)
                     if x < best:

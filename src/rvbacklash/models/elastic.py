@@ -50,7 +50,7 @@ from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models import compliance as cm
-from rvbacklash.models.contact import Realization, mesh_table, unit_arrays, unit_gaps
+from rvbacklash.models.contact import Realization, mesh_table, stage_work, unit_arrays, unit_gaps
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
@@ -1102,7 +1102,7 @@ def unit_from_realization(problem: Problem, r: Realization, involute_backlash_ra
     gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
     unit_gaps(mesh_table(g, np.array([r.chi_rad]))[0], g.a_mm, g.rp_mm, g.zp, g.discs, g.pitch_radius_um,
               *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r)), gap, lever,
-              np.empty((4, g.discs, g.zp)))
+              stage_work(g.discs, g.zp))
     return ElasticUnit(gap, lever, float(r.chi_rad), float(involute_backlash_rad), float(crank_clearance_um))
 
 

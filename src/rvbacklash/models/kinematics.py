@@ -113,43 +113,51 @@ def unit_pins(coef, rp, dr, dt, rho, cl, cx, cy, base):
     frame (cx, cy) [mm] and its gap's constant part -rho + cl / 2 [um] (``pin_in_disc``, hoisted)."""
     for j in range(cx.size):
         rad = rp + dr[j] * 1e-3
-        cpsi, spsi = coef[0, j, CPSI], coef[0, j, SPSI]
+        cpsi, spsi = coef[CPSI, 0, j], coef[SPSI, 0, j]
         cx[j] = rad * cpsi - dt[j] * 1e-3 * spsi
         cy[j] = rad * spsi + dt[j] * 1e-3 * cpsi
         base[j] = -rho[j] + 0.5 * cl[j]
 
 
 @njit(nogil=True, cache=True)
-def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, ux, uy, da, gap, lever):
+def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, ux, uy, da, gap, lever, scratch):
     """``models.contact.unit_gaps`` without the pin centres it keeps for the exact solve, the pins'
     constant part hoisted (``unit_pins``): every pin's gap [um] and lever [um/rad] at beta = 0 into
-    gap/lever; returns (lo, hi, flat) as unit_gaps does. The production run's fast path."""
-    hi = np.inf
-    lo = -np.inf
-    flat = np.inf
+    gap/lever; returns (lo, hi, flat) as unit_gaps does. The production run's fast path. As in
+    unit_gaps, each disc's pins are one pass the compiler runs four at a time, their tooth pitch
+    errors gathered first into ``scratch`` (z_p)."""
     tol = 1e-9 * azc_um
     for d in range(discs):
-        c0 = coef[d, 0]
-        ex, ey, cang, sang = c0[CCHI], c0[SCHI], c0[CANG], c0[SANG]
+        ex, ey, cang, sang = coef[CCHI, d, 0], coef[SCHI, d, 0], coef[CANG, d, 0], coef[SANG, d, 0]
         off = a + da[d] * 1e-3
         dx = off * ex + (ux[d] * ex - uy[d] * ey) * 1e-3  # the disc centre and its profile offset [mm]
         dy = off * ey + (ux[d] * ey + uy[d] * ex) * 1e-3
         mdd = md[d] * 1e-3
+        tooth, teeth_d = coef[TOOTH, d], teeth[d]
         for j in range(zp):
-            c = coef[d, j]
+            scratch[j] = teeth_d[int(tooth[j])]
+        ox_, oy_, eux, euy, side, rho_c = coef[OX, d], coef[OY, d], coef[EUX, d], coef[EUY, d], coef[SIDE, d], \
+            coef[RHO, d]
+        eqd, gap_d, lever_d = eq[d], gap[d], lever[d]
+        for j in range(zp):
             px = cx[j] - dx
             py = cy[j] - dy
-            dl = -teeth[d, int(c[TOOTH])] * 1e-3 / rp  # as pin_in_disc
-            cdl, sdl = 1.0 - 0.5 * dl * dl + dl ** 4 / 24.0, dl - dl ** 3 / 6.0
+            dl = -scratch[j] * 1e-3 / rp  # as pin_in_disc
+            dl2 = dl * dl
+            cdl, sdl = 1.0 - 0.5 * dl2 + dl2 * dl2 / 24.0, dl - dl2 * dl / 6.0
             ca, sa = cang * cdl - sang * sdl, sang * cdl + cang * sdl
             qx, qy = ca * px - sa * py, sa * px + ca * py
-            ox = c[OX] + mdd * c[EUX]
-            oy = c[OY] + mdd * c[EUY]
-            dist = math.sqrt((qx - ox) ** 2 + (qy - oy) ** 2)
-            g = eq[d] + base[j] + c[SIDE] * (dist - c[RHO]) * 1e3
-            lv = c[SIDE] * (qy * ox - qx * oy) / dist * 1e3
-            gap[d, j] = g
-            lever[d, j] = lv
+            ox = ox_[j] + mdd * eux[j]
+            oy = oy_[j] + mdd * euy[j]
+            dist = math.sqrt((qx - ox) * (qx - ox) + (qy - oy) * (qy - oy))
+            gap_d[j] = eqd + base[j] + side[j] * (dist - rho_c[j]) * 1e3
+            lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
+    hi = np.inf
+    lo = -np.inf
+    flat = np.inf
+    for d in range(discs):
+        for j in range(zp):
+            g, lv = gap[d, j], lever[d, j]
             if lv > tol:
                 hi = min(hi, g / lv)
             elif lv < -tol:
@@ -197,7 +205,7 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
                        gap, lever, work, res)
         else:
             lo, hi, flat = free_interval(coef[n], a, rp, zp, discs, azc_um, pcx, pcy, pbase, teeth, eq, md, ux, uy,
-                                         da, gap, lever)
+                                         da, gap, lever, work[2, 0])
             if hi < lo or flat < 0.0:
                 res[0] = np.nan
                 res[2] = 0.0
