@@ -8,8 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from rvbacklash.analysis.statistics import Proportion, process_capability, quantile_with_ci, wilson_interval
-from rvbacklash.sampling.engine import Histogram
+from rvbacklash.analysis.statistics import (Proportion, occupied_cumulative, process_capability, quantile_with_ci,
+                                           wilson_interval)
+from rvbacklash.sampling import kernels
+from rvbacklash.sampling.engine import HIST_BINS, Histogram
 
 
 @settings(max_examples=200, deadline=None)
@@ -39,6 +41,26 @@ def test_quantile_interval_from_order_statistics():
     q = quantile_with_ci(Histogram(0.0, 1.0, counts), x.size, 0.5)
     assert q.value == pytest.approx(np.median(x), abs=2e-5)
     assert q.ci95_high - q.ci95_low == pytest.approx(2 * 1.96 * math.sqrt(0.25 / 1e5), rel=0.1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(-3.0, 3.0), st.floats(0.01, 2.0), st.integers(1, 3000), st.integers(0, 2 ** 32 - 1))
+def test_quantiles_from_the_occupied_bins_are_the_full_cumsums(centre, spread, n, seed):
+    """The engine's quantiles read a cumulative sum over the bins between the least and the
+    greatest value only (occupied_cumulative): the same order statistics as the cumsum of all
+    2^18 bins, values beyond the histogram's range (under/overflow, infinite) included."""
+    y = centre + spread * np.random.default_rng(seed).standard_normal(n)
+    y[:: 7] *= 3.0  # some beyond the range [-2, 2]
+    if n > 5:
+        y[3] = math.inf
+    lo, hi = -2.0, 2.0
+    hist, out = np.zeros(HIST_BINS + 2, dtype=np.int64), np.empty(7)
+    kernels.accumulate(y, 0.0, math.inf, True, hist, lo, HIST_BINS / (hi - lo), out)
+    h = Histogram(lo, hi, hist)
+    c = occupied_cumulative(h, float(y.min()), float(y.max()))
+    assert c[1].size <= HIST_BINS + 2 and c[1][-1] == n
+    for p in (0.0, 0.01, 0.5, 0.9, 0.99999, 1.0):
+        assert quantile_with_ci(h, n, p, cumulative=c) == quantile_with_ci(h, n, p)
 
 
 def test_process_capability_by_hand():

@@ -19,7 +19,7 @@ from statistics import NormalDist
 import numpy as np
 
 from rvbacklash.results import Result
-from rvbacklash.sampling.engine import Histogram, Moments, RawOutput
+from rvbacklash.sampling.engine import Histogram, Moments, RawOutput, histogram_bin
 
 DEFAULT_QUANTILES = (0.00135, 0.5, 0.99865)
 Z95 = 1.959963984540054
@@ -168,23 +168,36 @@ def _num(x) -> str:
 
 # --- formulas ------------------------------------------------------------------------------
 
-def order_statistic(hist: Histogram, k: int, cumulative: np.ndarray | None = None) -> float | None:
+def occupied_cumulative(hist: Histogram, lowest: float, highest: float) -> tuple[int, np.ndarray]:
+    """(first bin, cumulative counts from it) of an engine histogram over the bins between its
+    lowest and its highest value, one bin of margin each side; every other bin is empty. What
+    order_statistic reads, at a fraction of the cost: a cumsum of all 2^18 bins takes ~0.5 ms, and
+    a run reads quantiles at every convergence point."""
+    scale = (hist.counts.size - 2) / (hist.hi - hist.lo)  # the engine's HIST_BINS / (hi - lo)
+    first = max(histogram_bin(lowest, hist.lo, scale) - 1, 0)
+    last = min(histogram_bin(highest, hist.lo, scale) + 1, hist.counts.size - 1)
+    return first, np.cumsum(hist.counts[first:last + 1])
+
+
+def order_statistic(hist: Histogram, k: int, cumulative: tuple[int, np.ndarray] | None = None) -> float | None:
     """Value of the k-th smallest sample (1-based), spread evenly inside its bin; None when
-    it fell outside the histogram range. ``cumulative``: np.cumsum(hist.counts), if at hand."""
-    c = np.cumsum(hist.counts) if cumulative is None else cumulative
-    j = int(np.searchsorted(c, k))  # first index with cumulative count >= k
+    it fell outside the histogram range. ``cumulative``: (first bin, cumulative counts from it)
+    covering every non-empty bin (occupied_cumulative), if at hand; else every bin's."""
+    start, c = (0, np.cumsum(hist.counts)) if cumulative is None else cumulative
+    i = int(np.searchsorted(c, k))  # first index with cumulative count >= k
+    j = start + i  # its bin
     if j == 0 or j == hist.counts.size - 1:
         return None
     width = (hist.hi - hist.lo) / (hist.counts.size - 2)
-    before = c[j - 1]
+    before = c[i - 1] if i > 0 else 0  # no sample before the first bin of c
     frac = (k - before - 0.5) / hist.counts[j]
     return float(hist.lo + (j - 1 + frac) * width)
 
 
 def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95,
-                     cumulative: np.ndarray | None = None) -> Quantile:
+                     cumulative: tuple[int, np.ndarray] | None = None) -> Quantile:
     """The p-quantile of n samples summarised in ``hist``, with its order-statistic interval.
-    ``cumulative``: np.cumsum(hist.counts), if at hand (several quantiles of one histogram)."""
+    ``cumulative``: (first bin, cumulative counts from it), if at hand (order_statistic)."""
     from scipy import stats
 
     if n == 0:
@@ -194,7 +207,7 @@ def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95
     lo_rank = int(stats.binom.ppf(alpha / 2, n, p))
     hi_rank = int(stats.binom.ppf(1 - alpha / 2, n, p)) + 1
     lo_rank, hi_rank = min(max(lo_rank, 1), n), min(max(hi_rank, 1), n)
-    c = np.cumsum(hist.counts) if cumulative is None else cumulative  # once for the three ranks (2^18 bins)
+    c = (0, np.cumsum(hist.counts)) if cumulative is None else cumulative  # once for the three ranks
     return Quantile(p, order_statistic(hist, k, c), order_statistic(hist, lo_rank, c),
                     order_statistic(hist, hi_rank, c))
 
@@ -266,7 +279,8 @@ def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float |
         ppm = (1.0 - passing / total) * 1e6
     else:
         y, cp, cpk, ppm = None, None, None, None
-    cumulative = np.cumsum(raw.histogram.counts) if quantiles else None  # once for every quantile (2^18 bins)
+    # once for every quantile, over the occupied bins only
+    cumulative = occupied_cumulative(raw.histogram, m.min, m.max) if quantiles and n else None
     qs = tuple(quantile_with_ci(raw.histogram, n, p, cumulative=cumulative) for p in quantiles)
     if n:
         qs = tuple(_clamped(q, m.min, m.max) for q in qs)

@@ -501,7 +501,7 @@ def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux
 
 
 @njit_borrowing(nogil=True, cache=True)
-def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
+def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
                out, play=True):
     """Play of the cycloid stage of one unit; out = [play_ccw, play_cw, preload_um, pin_ccw, disc_ccw,
     pin_cw, disc_cw] (plays [rad] from the assembled position; NaN and pin -1 when preloaded).
@@ -592,7 +592,7 @@ def stage_play(coef, chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, 
                     band = BAND_WIDE if coef[RHO, d, j] < RHO_TIGHT_MM else BAND_NARROW
                     if x > ref * (1.0 + band) or (rnd == 1 and x <= first * (1.0 + band)):
                         continue
-                    px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
+                    px, py = qx_[d, j], qy_[d, j]  # its centre as unit_gaps placed it (pin_frame's, from the table)
                     base = eq[d] - rho[j] + 0.5 * cl[j]
                     f1, s1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[T0, d, j])
                     if s1 != 0.0:
@@ -635,7 +635,7 @@ def kernel_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     coef = mesh_table(g, np.array([r.chi_rad]))[0]
     out = np.empty(7)
     gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
-    stage_play(coef, r.chi_rad, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
+    stage_play(coef, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
                *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r)), gap, lever,
                stage_work(g.discs, g.zp), out)
     return MeshPlay((), float(out[2]), g.pitch_radius_um, float(out[0]), float(out[1]))

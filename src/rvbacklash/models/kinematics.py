@@ -201,7 +201,7 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
             for k in range(zc):
                 teeth[d, k] = teeth0[d, k] + turn * rp * 1e3
         if exact:
-            stage_play(coef[n], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
+            stage_play(coef[n], a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
                        gap, lever, work, res)
         else:
             lo, hi, flat = free_interval(coef[n], a, rp, zp, discs, azc_um, pcx, pcy, pbase, teeth, eq, md, ux, uy,

@@ -272,8 +272,7 @@ def contact_block(streams, n, bm, long_wave, codes, params, tables, harmonics, l
     for s in range(n):
         step, lin, crank, eq0, md0 = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
                                            linear_sens, idx, zp, zc, discs, steps, sc)
-        chi = 2.0 * math.pi / zp * (step + 0.5) / steps
-        stage_play(coef[step], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
+        stage_play(coef[step], a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
                    gap, lever, work, res)
         if math.isnan(res[0]):
             out[0, s] = lin

@@ -97,7 +97,7 @@ def draw_units_kernel(streams, n, long_wave, codes, params, tables, harmonics, l
         crank_out[s] = crank
         # the gaps and levers (unit_gaps) land in the unit's rows; the rigid play of a free unit is
         # not needed (only by a recorded unit)
-        stage_play(coef[step], chi, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
+        stage_play(coef[step], a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
                    gap_out[s], lever_out[s], work, res, s < save.shape[0])
         preload_out[s] = res[2] if math.isnan(res[0]) else np.nan
         if s < save.shape[0]:

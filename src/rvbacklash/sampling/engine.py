@@ -256,7 +256,7 @@ def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | No
         return _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
 
 
-def _bin(value: float, lo: float, scale: float) -> int:
+def histogram_bin(value: float, lo: float, scale: float) -> int:
     """The histogram bin that ``kernels.accumulate`` puts a (valid) value in: 0 underflow,
     HIST_BINS + 1 overflow."""
     t = (value - lo) * scale
@@ -348,8 +348,8 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
         for c in range(k):  # only the bins between the task's least and greatest value (a few MB less each)
             valid = [stats[c] for stats, _ in per_block if stats[c, 5] > 0]
             if valid:
-                lo = _bin(min(s[2] for s in valid), frame["ranges"][c][0], frame["scales"][c])
-                hi = _bin(max(s[3] for s in valid), frame["ranges"][c][0], frame["scales"][c]) + 1
+                lo = histogram_bin(min(s[2] for s in valid), frame["ranges"][c][0], frame["scales"][c])
+                hi = histogram_bin(max(s[3] for s in valid), frame["ranges"][c][0], frame["scales"][c]) + 1
                 np.add(hist_total[c, lo:hi], hist[c, lo:hi], out=hist_total[c, lo:hi])
         next_block = blocks.stop
 
