@@ -135,7 +135,8 @@ RHO_MAX_MM = 1e3  # near an inflection of C its osculating circle is a line: 1 m
 # tightly bent stretch of C (radius below RHO_TIGHT_MM, near the tooth tips) gets the wide band.
 BAND_WIDE, BAND_NARROW, RHO_TIGHT_MM = 0.10, 0.005, 3.0
 # stage_play's scratch (stage_work), each row (discs, z_p): the pin centres (x, y), the contact
-# estimates, the closing distances, and the gaps and levers of _lowest_gaps
+# estimates (before them, unit_gaps' gathered tooth pitch errors), the closing distances, and the
+# gaps and levers of _lowest_gaps
 WORK_ROWS = 6
 
 
@@ -507,7 +508,7 @@ def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, m
     pin_cw, disc_cw] (plays [rad] from the assembled position; NaN and pin -1 when preloaded).
 
     Each pin's gap as the disc turns by beta is its distance from the osculating circle of the
-    pin-centre curve at that pin (mesh_table), with every error placed exactly (pin_frame):
+    pin-centre curve at that pin (mesh_table), with every error placed exactly (pin_in_disc):
         gap_j(beta) = eq + SIDE (D_j(beta) - RHO) 1e3 - rho_j + cl_j / 2,
         D_j(beta) = |q_j - R(beta) (O_j + dr_p e_u)|,
     exact to second order in the displacements (the curve's own curvature included), which the
@@ -521,10 +522,11 @@ def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, m
     max-min gap turns out positive is free after all, centred on that beta.
     Otherwise, from the middle of the free interval, each side's first contact is the nearest
     root of the pins' gaps; the pins within a band of it (BAND_NARROW, BAND_WIDE near the tips)
-    are checked on the exact curve (exact_gap_um) and the first of them solved exactly, then the
-    pins within the band of that refined contact are checked again (the osculating estimate can
-    be off by more than the band near a tip). ``play`` False: a free unit stops there (out[0:2]
-    = 0, pins -1): the elastic model reads the gaps, the levers and the preload only.
+    are checked on the exact curve (turned_gap, from the centres unit_gaps placed) and the first of
+    them solved exactly, then the pins within the band of that refined contact are checked again
+    (the osculating estimate can be off by more than the band near a tip). ``play`` False: a free
+    unit stops there (out[0:2] = 0, pins -1): the elastic model reads the gaps, the levers and the
+    preload only.
     """
     qx_, qy_, est, tgt = work[0], work[1], work[2], work[3]
     lo, hi, flat = unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever,
