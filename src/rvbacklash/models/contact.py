@@ -453,6 +453,27 @@ def _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi):
     return best, best_beta
 
 
+@njit(nogil=True, cache=True, inline="always")
+def free_interval_bounds(gap, lever, discs, zp, azc_um):
+    """(lo, hi, flat) of linearised gaps gap_j - lever_j beta [um, um/rad] (discs, z_p): the free
+    interval lo <= beta <= hi [rad] that every pin with a lever allows, and the smallest gap of a
+    pin without one (|lever| <= 1e-9 a z_c, azc_um [um]) [um]."""
+    hi = np.inf
+    lo = -np.inf
+    flat = np.inf
+    tol = 1e-9 * azc_um
+    for d in range(discs):
+        for j in range(zp):
+            g, lv = gap[d, j], lever[d, j]
+            if lv > tol:
+                hi = min(hi, g / lv)
+            elif lv < -tol:
+                lo = max(lo, g / lv)
+            else:
+                flat = min(flat, g)
+    return lo, hi, flat
+
+
 @njit(nogil=True, cache=True)
 def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work):
     """Every pin's gap [um] and lever [um/rad] at beta = 0 on its osculating circle (see stage_play)
@@ -486,19 +507,7 @@ def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux
             gap_d[j] = base + side[j] * (dist - rho_c[j]) * 1e3
             lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
             tgt[j] = rho_c[j] - side[j] * base * 1e-3  # the distance D at which the gap is 0
-    hi = np.inf
-    lo = -np.inf
-    flat = np.inf
-    for d in range(discs):
-        for j in range(zp):
-            g, lv = gap[d, j], lever[d, j]
-            if lv > 1e-9 * azc_um:
-                hi = min(hi, g / lv)
-            elif lv < -1e-9 * azc_um:
-                lo = max(lo, g / lv)
-            else:
-                flat = min(flat, g)
-    return lo, hi, flat
+    return free_interval_bounds(gap, lever, discs, zp, azc_um)
 
 
 @njit_borrowing(nogil=True, cache=True)

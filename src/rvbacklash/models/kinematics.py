@@ -45,7 +45,8 @@ from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH,
-                                      Realization, _linear_maxmin, mesh_table, stage_play, stage_work, unit_arrays)
+                                      Realization, _linear_maxmin, free_interval_bounds, mesh_table, stage_play,
+                                      stage_work, unit_arrays)
 from rvbacklash.problem import Problem
 
 ARCSEC_PER_RAD = 648000.0 / math.pi
@@ -126,7 +127,6 @@ def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, u
     gap/lever; returns (lo, hi, flat) as unit_gaps does. The production run's fast path. As in
     unit_gaps, each disc's pins are one pass the compiler runs four at a time, their tooth pitch
     errors gathered first into ``scratch`` (z_p)."""
-    tol = 1e-9 * azc_um
     for d in range(discs):
         ex, ey, cang, sang = coef[CCHI, d, 0], coef[SCHI, d, 0], coef[CANG, d, 0], coef[SANG, d, 0]
         off = a + da[d] * 1e-3
@@ -152,19 +152,7 @@ def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, u
             dist = math.sqrt((qx - ox) * (qx - ox) + (qy - oy) * (qy - oy))
             gap_d[j] = eqd + base[j] + side[j] * (dist - rho_c[j]) * 1e3
             lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
-    hi = np.inf
-    lo = -np.inf
-    flat = np.inf
-    for d in range(discs):
-        for j in range(zp):
-            g, lv = gap[d, j], lever[d, j]
-            if lv > tol:
-                hi = min(hi, g / lv)
-            elif lv < -tol:
-                lo = max(lo, g / lv)
-            else:
-                flat = min(flat, g)
-    return lo, hi, flat
+    return free_interval_bounds(gap, lever, discs, zp, azc_um)
 
 
 @njit(nogil=True, cache=True)
