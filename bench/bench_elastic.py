@@ -28,7 +28,7 @@ def main() -> None:
         a.samples, a.units = 64, 64
     from rvbacklash import prepare, simulate
     from rvbacklash.analysis.simulation import default_workers
-    from rvbacklash.models.elastic import elastic_model
+    from rvbacklash.models.elastic import elastic_model, loop_design
     from rvbacklash.sampling.elastic_source import design_pin_laws, evaluate_batch, sample_units
 
     problem = prepare("rv80e")
@@ -41,13 +41,13 @@ def main() -> None:
     units = sample_units(problem, 1, a.units)
     draw = a.units / (time.perf_counter() - t)
     rigid = elastic_model(prepare(problem.design.model_copy(update={"structure": None})))
-    evaluate_batch(model, units.take(slice(0, 10)))  # compile / load
+    designs = {id(model): loop_design(model, design_pin_laws(model)),  # as the engine's source has them
+               id(rigid): loop_design(rigid, design_pin_laws(rigid))}
+    evaluate_batch(designs[id(model)], units.take(slice(0, 10)))  # compile / load
     parts = np.array_split(np.arange(a.units), workers)
 
-    laws = {id(model): design_pin_laws(model), id(rigid): design_pin_laws(rigid)}  # as the engine's source has
-
     def run(idx, m=model):
-        return evaluate_batch(m, units.take(idx), laws[id(m)])
+        return evaluate_batch(designs[id(m)], units.take(idx))
 
     t = time.perf_counter()
     with ThreadPoolExecutor(workers) as pool:

@@ -44,13 +44,14 @@ def main() -> None:
           f"({cpu_rate:.0f} units per CPU-second; TE p-p mean {te.mean:.1f} arcsec, yield at 60 arcsec {te.yield_.fraction:.1%})")
     src = transmission_source(p, "default", 2)
     m = max(16, min(n, 512))
-    arrays = src._draw(te_streams(2, 0), m)
+    batch = src._draw(te_streams(2, 0), m)
     out = np.empty((3, m))
     t = time.perf_counter()
-    src._evaluate(arrays, out)
+    src._evaluate(batch, out)
     dt = (time.perf_counter() - t) / m
-    print(f"evaluation kernel, one thread: {dt * 1e3:8.3f} ms/unit, {dt / src.table[0].size * 1e6:6.2f} us/position "
-          f"({src.table[0].size} positions)")
+    positions = src.table.theta_rad.size
+    print(f"evaluation kernel, one thread: {dt * 1e3:8.3f} ms/unit, {dt / positions * 1e6:6.2f} us/position "
+          f"({positions} positions)")
     unit = perfect_unit(p)
     revolution(p, unit, 1024)
     t = time.perf_counter()

@@ -70,10 +70,52 @@ def test_the_per_unit_kernels_run_without_numba_runtime():
     from numba.core.cpu import CPUTargetOptions
 
     from rvbacklash.models.contact import stage_play
-    from rvbacklash.models.elastic import loop_figures
-    from rvbacklash.sampling.contact_source import draw_unit
+    from rvbacklash.models.elastic.chain import loop_figures
+    from rvbacklash.sampling.unit_draw import draw_unit
 
     if not hasattr(CPUTargetOptions, "_nrt"):  # njit_borrowing falls back to njit
         pytest.skip("this numba has no _nrt option")
     for kernel in (draw_unit, stage_play, loop_figures):
         assert kernel.targetoptions.get("_nrt") is False, kernel.__name__
+
+
+MAX_KERNEL_PARAMETERS = 8  # issue 27: a kernel takes named records (the unit, the stage, the laws), not 30 arrays
+
+
+def wide_kernels(source: str, name: str = "<source>") -> list[str]:
+    """The compiled functions (any decorator naming a jit) of a module's source that take more than
+    MAX_KERNEL_PARAMETERS parameters, as "module:function (count)"."""
+    import ast
+
+    rows = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and \
+                any("jit" in ast.unparse(d) for d in node.decorator_list):
+            a = node.args
+            count = len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs) + (a.vararg is not None) + \
+                (a.kwarg is not None)
+            if count > MAX_KERNEL_PARAMETERS:
+                rows.append(f"{name}:{node.name} ({count})")
+    return rows
+
+
+def test_no_compiled_function_takes_more_than_eight_parameters():
+    """Every numba kernel of the package takes at most MAX_KERNEL_PARAMETERS parameters: what travels
+    together is a named record (docs/architecture.md, "Kernels and their records")."""
+    package = ROOT / "src" / "rvbacklash"
+    kernels = 0
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        text = path.read_text()
+        kernels += text.count("jit(")
+        found += wide_kernels(text, str(path.relative_to(package)))
+    assert kernels > 50  # the scan sees the kernels
+    assert found == [], f"kernels with more than {MAX_KERNEL_PARAMETERS} parameters: {found}"
+
+
+def test_the_parameter_limit_catches_a_wide_kernel():
+    wide = ("from rvbacklash._numba import njit\n\n@njit(cache=True)\n"
+            "def kernel(a, b, c, d, e, f, g, h, i):\n    return a\n\n"
+            "@njit\ndef fine(a, b, c, d, e, f, g, h):\n    return a\n\n"
+            "def plain(a, b, c, d, e, f, g, h, i):\n    return a\n")
+    assert wide_kernels(wide, "m") == ["m:kernel (9)"]

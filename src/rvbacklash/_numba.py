@@ -54,7 +54,7 @@ def njit(**options):
 
 def njit_borrowing(**options):
     """``njit`` for a per-unit kernel that allocates nothing and only reads and writes arrays its
-    caller holds (``contact_source.draw_unit``, ``contact.stage_play``, ``elastic.loop_figures``),
+    caller holds (``unit_draw.draw_unit``, ``contact.stage_play``, ``elastic.chain.loop_figures``),
     compiled without numba's runtime (its ``_nrt=False`` option): its own code keeps no reference
     counts. Each call of such a kernel binds a few dozen arrays (its scratch tuple, its
     arguments), two atomic operations each that numba could not prune in a function this size:

@@ -135,13 +135,13 @@ def test_elastic_is_a_model_of_the_engine(problem):
     assert 0 < lm.mean < 2 and rig.mean > 0
     assert r.joint_yield is not None and r.joint_yield.count <= min(lm.yield_.count, rig.yield_.count)
     # the block source's numbers are the evaluation of the drawn units
-    from rvbacklash.models.elastic import elastic_model
+    from rvbacklash.models.elastic import elastic_model, loop_design
     from rvbacklash.sampling.contact_source import block_streams, contact_source
     from rvbacklash.sampling.elastic_source import BLOCK_UNITS, draw_units, evaluate_batch
 
     c = contact_source(problem, "default", 1)
-    model = elastic_model(problem)  # block b holds units [b BLOCK_UNITS, (b + 1) BLOCK_UNITS)
-    out = np.hstack([evaluate_batch(model, draw_units(c, block_streams(1, b), min(BLOCK_UNITS, 3000 - s)))
+    design = loop_design(elastic_model(problem))  # block b holds units [b BLOCK_UNITS, (b + 1) BLOCK_UNITS)
+    out = np.hstack([evaluate_batch(design, draw_units(c, block_streams(1, b), min(BLOCK_UNITS, 3000 - s)))
                      for b, s in enumerate(range(0, 3000, BLOCK_UNITS))])
     assert lm.mean == pytest.approx(float(np.mean(out[0])), rel=1e-12)
     assert rig.yield_.count == int(np.sum(out[2] >= 1200.0))

@@ -54,8 +54,9 @@ def test_quantiles_from_the_occupied_bins_are_the_full_cumsums(centre, spread, n
     if n > 5:
         y[3] = math.inf
     lo, hi = -2.0, 2.0
-    hist, out = np.zeros(HIST_BINS + 2, dtype=np.int64), np.empty(7)
-    kernels.accumulate(y, 0.0, math.inf, True, hist, lo, HIST_BINS / (hi - lo), out)
+    hist = np.zeros(HIST_BINS + 2, dtype=np.int64)
+    summary = kernels.accumulate(y, 0.0, math.inf, True, hist, lo, HIST_BINS / (hi - lo))
+    assert summary.valid == n and summary.max == y.max() and summary.min == y.min()
     h = Histogram(lo, hi, hist)
     c = occupied_cumulative(h, float(y.min()), float(y.max()))
     assert c[1].size <= HIST_BINS + 2 and c[1][-1] == n

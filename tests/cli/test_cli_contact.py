@@ -92,7 +92,7 @@ def test_unit_index_and_missing_file(tmp_path):
     one_line_error(run_cli("contact", "rv80e", "--measured", tmp_path / "none.toml"), "--measured")
     one_line_error(run_cli("contact", "rv80e", "--unit", "0"), "--unit = 0: allowed only with measured units")
     one_line_error(run_cli("simulate", "rv80e", "-n", "100", "--save-units", "5", tmp_path / "x.toml"),
-                   "--save-units = 5: allowed with the contact and elastic models")
+                   "--save-units = 5: allowed with the contact, elastic and transmission models")
 
 
 @pytest.mark.parametrize("command,text", [("contact", ""), ("hysteresis", ""), ("contact", "# exported, no rows\n"),

@@ -1,4 +1,4 @@
-"""The elastic hysteresis model (models/compliance.py, models/elastic.py): formulas against the
+"""The elastic hysteresis model (models/compliance.py, models/elastic/): formulas against the
 literature and closed forms, the solver against independent balances, the loop's invariants."""
 
 from __future__ import annotations
@@ -11,7 +11,10 @@ import pytest
 from rvbacklash.geometry.cycloid import PinCentreCurve
 from rvbacklash.models import compliance as cm
 from rvbacklash.models import elastic as el
-from rvbacklash.models.contact import Realization, exact_play, linear_gaps_um
+from rvbacklash.models.contact import exact_play, linear_gaps_um
+from rvbacklash.models.elastic import chain as ch
+from rvbacklash.models.elastic import solver as sv
+from rvbacklash.models.unit_errors import Realization
 from rvbacklash.problem import prepare
 from rvbacklash.units import ARCMIN_PER_RAD
 
@@ -35,7 +38,7 @@ def model(problem):
 def rigid(model: el.ElasticModel, **chain) -> el.ElasticModel:
     """The same model with (nearly) rigid contacts: a Palmgren law with a compliance 1e-12 of steel's,
     so that only dead bands and the linear springs (involute mesh, structure) remain."""
-    c = model.chain._replace(law_b=0.0, law_n=cm.PALMGREN_EXPONENT, johnson=0.0, palmgren_a=1e-14,
+    c = model.chain._replace(law_b=0.0, law_n=cm.PALMGREN_EXPONENT, johnson=False, palmgren_a=1e-14,
                              roller_a=1e-14, roller_b=0.0, **chain)
     return el.ElasticModel(model.inputs, model.geometry, c, model.roller_cos, model.bearings,
                            model.crank_circle_radius_mm, model.raceway_diameter_mm)
@@ -85,18 +88,19 @@ def test_johnson_and_palmgren_agree_for_a_steel_roller():
     for q in (200.0, 700.0, 2000.0):
         pal = cm.palmgren_line_approach_um(q, 10.0)
         r = cm.relative_radius_mm(2.0, 15.0)
-        joh = cm.johnson_line_approach_um(q, 10.0, 2.0, E_STEEL, NU, 15.0, E_STEEL, NU, r)
+        joh = cm.johnson_line_approach_um(q, 10.0, cm.Body(2.0, E_STEEL, NU), cm.Body(15.0, E_STEEL, NU), r)
         assert 0.65 < joh / pal < 1.35, (q, joh, pal)
-    joh = cm.johnson_line_approach_um(1000.0, 12.0, 4.0, E_STEEL, NU, 45.0, E_STEEL, NU, cm.relative_radius_mm(4, 45))
+    joh = cm.johnson_line_approach_um(1000.0, 12.0, cm.Body(4.0, E_STEEL, NU), cm.Body(45.0, E_STEEL, NU),
+                                   cm.relative_radius_mm(4, 45))
     assert 0.65 < joh / cm.palmgren_line_approach_um(1000.0, 12.0) < 1.35
 
 
 def test_johnson_law_is_the_approach_rearranged():
     b = cm.johnson_law_b_um_per_n(12.0, E_STEEL, NU, 210.0, 0.29)
     for r1, r2, rel in ((4.0, 45.0, cm.relative_radius_mm(4, 45)), (4.0, 77.5, 8.0), (2.0, 19.0, 2.3)):
-        a = cm.johnson_law_a_um_per_n(12.0, r1, E_STEEL, NU, r2, 210.0, 0.29, rel)
+        a = cm.johnson_law_a_um_per_n(12.0, cm.Body(r1, E_STEEL, NU), cm.Body(r2, 210.0, 0.29), rel)
         for f in (10.0, 300.0, 5000.0):
-            direct = cm.johnson_line_approach_um(f, 12.0, r1, E_STEEL, NU, r2, 210.0, 0.29, rel)
+            direct = cm.johnson_line_approach_um(f, 12.0, cm.Body(r1, E_STEEL, NU), cm.Body(r2, 210.0, 0.29), rel)
             assert cm.law_approach_um(f, a, b, 1.0) == pytest.approx(direct, rel=1e-12)
     assert cm.law_approach_um(700.0, cm.palmgren_law_a(10.0), 0.0, 0.9) == \
         pytest.approx(cm.palmgren_line_approach_um(700.0, 10.0), rel=1e-14)
@@ -105,13 +109,13 @@ def test_johnson_law_is_the_approach_rearranged():
 @pytest.mark.parametrize("law", ["johnson", "palmgren"])
 def test_contact_force_inverts_the_law(law):
     if law == "johnson":
-        a, b, n = cm.johnson_law_a_um_per_n(12.0, 4.0, E_STEEL, NU, 45.0, E_STEEL, NU, 3.6), \
+        a, b, n = cm.johnson_law_a_um_per_n(12.0, cm.Body(4.0, E_STEEL, NU), cm.Body(45.0, E_STEEL, NU), 3.6), \
             cm.johnson_law_b_um_per_n(12.0, E_STEEL, NU, E_STEEL, NU), 1.0
     else:
         a, b, n = cm.palmgren_law_a(12.0), 0.0, 0.9
     for delta in (1e-3, 0.05, 1.0, 3.0, 20.0):
         for start in (0.0, 1.0, 1e5):
-            f, df = el.law_force(delta, a, b, n, start)
+            f, df = sv.law_force(delta, a, b, n, start)
             assert cm.law_approach_um(f, a, b, n) == pytest.approx(delta, rel=1e-12)
             h = 1e-6 * f
             slope = (cm.law_approach_um(f + h, a, b, n) - cm.law_approach_um(f - h, a, b, n)) / (2 * h)
@@ -161,13 +165,12 @@ def test_discs_in_parallel_share_the_torque(problem, model):
     c = model.chain
     g1, l1 = u.gap_um[0], u.lever_um_per_rad[0] / c.lever_factor
     law = np.empty((problem.cycloid.discs, problem.cycloid.zp))
-    el.fill_pin_law(0.0, c, law)
+    ch.fill_pin_law(0.0, c, law)
     a1 = law[0]
 
     def solve(g, lev, a, load):
-        bounds = np.empty(5)
-        el.set_bounds(g, lev, g.size, bounds)
-        return el.solve_set(g, lev, a, c.law_b, c.law_n, 1e-6, g.size, bounds, np.zeros(g.size), load, 1.0, np.nan)
+        cs = sv.ContactSet(g, lev, a, sv.set_bounds(g, lev, g.size), np.zeros(g.size), -1, 0)
+        return sv.solve_set(cs, sv.ContactLaw(c.law_b, c.law_n, 1e-6), load, 1.0, np.nan, (np.nan, np.nan)).x
 
     for t in (20.0, 400.0, -700.0):
         two = solve(np.concatenate([g1, g1]), np.concatenate([l1, l1]), np.concatenate([a1, a1]), t)
@@ -192,14 +195,14 @@ def balance_residuals(pu: el.PreparedUnit, torque: float, branch: int) -> tuple[
     t_el = chain_torque(c, torque, branch)
     angles = pu.branch(torque, branch)
     if t_el != 0.0:
-        assert angles[2] - math.copysign(0.5 * pu.b1, t_el) == pytest.approx(t_el / c.involute_stiffness_nm_per_rad,
-                                                                              rel=1e-12)
+        assert angles[2] - math.copysign(0.5 * pu.loop.involute_backlash_rad, t_el) == pytest.approx(
+            t_el / c.involute_stiffness_nm_per_rad, rel=1e-12)
     lev = (pu.unit.lever_um_per_rad / c.lever_factor).ravel()
     f = pu.pin_forces_n(angles[0]).ravel()
     pins = 1e-6 * float(f @ lev)
     dr = angles[1] / c.bearing_angle_rad_per_um
     d = dr * pu.model.roller_cos - 0.5 * pu.unit.crank_clearance_um
-    q = np.array([el.law_force(x, c.roller_a, c.roller_b, c.law_n, 0.0)[0] if x > 0 else 0.0 for x in d])
+    q = np.array([sv.law_force(x, c.roller_a, c.roller_b, c.law_n, 0.0)[0] if x > 0 else 0.0 for x in d])
     rollers = float(q @ pu.model.roller_cos)
     load = t_el * c.bearing_force_n_per_nm
     return abs(pins - t_el) / max(abs(t_el), 1.0), abs(rollers - load) / max(abs(load), 1.0)
@@ -340,7 +343,7 @@ def test_core_equals_the_prepared_unit_and_batches(problem, model):
     from rvbacklash.sampling.elastic_source import evaluate_batch, sample_units
 
     units = sample_units(problem, 5, 40)
-    out = evaluate_batch(model, units)
+    out = evaluate_batch(el.loop_design(model), units)
     for i in range(0, 40, 7):
         u = el.ElasticUnit(units.gap_um[i], units.lever_um_per_rad[i], float(units.chi_rad[i]),
                            float(units.involute_backlash_rad[i]), float(units.crank_clearance_um[i]))
@@ -348,8 +351,7 @@ def test_core_equals_the_prepared_unit_and_batches(problem, model):
         np.testing.assert_allclose(out[:3, i], fig[:3], rtol=1e-9)
         assert np.isnan(out[3, i]) or out[3, i] >= 0  # preload [um]: NaN when the cycloid stage is free
         one = np.empty(el.N_FIGURES)
-        el.unit_hysteresis(u.gap_um, u.lever_um_per_rad, u.chi_rad, u.involute_backlash_rad, u.crank_clearance_um,
-                           model.chain, model.roller_cos, one)
+        el.unit_hysteresis(u, el.loop_design(model), one)
         np.testing.assert_allclose(one, fig, rtol=1e-9)
         assert sum(fig[3:el.SHARES]) == pytest.approx(fig[0], rel=1e-12)
 
@@ -359,7 +361,8 @@ def test_the_elastic_model_draws_the_contact_models_units(problem):
     and its gaps and levers are the contact kernel's (models.contact.unit_gaps), which agree with
     the first-order gaps (linear_gaps_um) away from the tooth tips."""
     from rvbacklash.analysis.simulation import simulate
-    from rvbacklash.models.contact import RHO, mesh_table, stage_work, unit_arrays, unit_gaps
+    from rvbacklash.models.contact import RHO, PinGaps, mesh_table, stage_work, unit_gaps
+    from rvbacklash.models.unit_errors import unit_errors
     from rvbacklash.sampling.elastic_source import sample_units
 
     e = simulate(problem, samples=50, seed=3, model="elastic", save_units=5, workers=1)
@@ -372,9 +375,7 @@ def test_the_elastic_model_draws_the_contact_models_units(problem):
         np.testing.assert_array_equal(re.pin_radius_um, rc.pin_radius_um)
         gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
         table = mesh_table(g, np.array([re.chi_rad]))[0]
-        unit_gaps(table, g.a_mm, g.rp_mm, g.zp, g.discs, g.pitch_radius_um,
-                  *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(re)), gap, lever,
-                  stage_work(g.discs, g.zp))
+        unit_gaps(table, g.stage_geometry, unit_errors(re), PinGaps(gap, lever), stage_work(g.discs, g.zp))
         np.testing.assert_array_equal(batch.gap_um[k], gap)
         np.testing.assert_array_equal(batch.lever_um_per_rad[k], lever)
         for d in range(g.discs):
@@ -410,12 +411,12 @@ def test_the_pin_law_table_holds_each_units_laws(problem, model):
     law = np.empty((g.discs, g.zp))
     for s in (0, 77, CRANK_STEPS - 1):
         chi = 2.0 * math.pi / g.zp * (s + 0.5) / CRANK_STEPS  # as contact_source draws it
-        el.fill_pin_law(chi, model.chain, law)
-        assert np.array_equal(el.unit_pin_laws(chi, model.chain, g.zp, g.discs, table), law.ravel())
-        assert np.shares_memory(el.unit_pin_laws(chi, model.chain, g.zp, g.discs, table), table)  # the row itself
+        ch.fill_pin_law(chi, model.chain, law)
+        assert np.array_equal(ch.unit_pin_laws(chi, model.chain, g.zp, g.discs, table), law.ravel())
+        assert np.shares_memory(ch.unit_pin_laws(chi, model.chain, g.zp, g.discs, table), table)  # the row itself
     off = 0.123  # not on the grid: computed
-    el.fill_pin_law(off, model.chain, law)
-    got = el.unit_pin_laws(off, model.chain, g.zp, g.discs, table)
+    ch.fill_pin_law(off, model.chain, law)
+    got = ch.unit_pin_laws(off, model.chain, g.zp, g.discs, table)
     assert np.array_equal(got, law.ravel()) and not np.shares_memory(got, table)
 
 
@@ -428,7 +429,7 @@ def test_contacts_in_closure_order_load_as_in_any_order():
     levers = rng.normal(0.0, 4e4, m)
     levers[:3] = 0.0  # no lever: checked every time
     law_a = rng.uniform(0.003, 0.005, m)
-    order, npos, nneg = el.closure_order(gaps, levers, m)
+    order, npos, nneg = sv.closure_order(gaps, levers, m)
     assert sorted(order) == list(range(m)) and npos == int((levers > 0).sum()) and nneg == int((levers < 0).sum())
     g, lv, la = gaps[order], levers[order], law_a[order]
     n_closed = 0
@@ -437,8 +438,9 @@ def test_contacts_in_closure_order_load_as_in_any_order():
         n_closed += int(closed.sum())
         assert not np.any(np.diff(closed[:npos].astype(int)) > 0)  # a prefix of each run
         assert not np.any(np.diff(closed[npos:npos + nneg].astype(int)) > 0)
-        plain = el.set_load(x, gaps, levers, law_a, 2.3e-4, 1.0, 1e-6, m, np.zeros(m))
-        runs = el.set_load(x, g, lv, la, 2.3e-4, 1.0, 1e-6, m, np.zeros(m), npos, nneg)
+        law = sv.ContactLaw(2.3e-4, 1.0, 1e-6)
+        plain = sv.set_load(x, sv.ContactSet(gaps, levers, law_a, sv.set_bounds(gaps, levers, m), np.zeros(m), -1, 0), law)
+        runs = sv.set_load(x, sv.ContactSet(g, lv, la, sv.set_bounds(g, lv, m), np.zeros(m), npos, nneg), law)
         np.testing.assert_allclose(runs, plain, rtol=1e-12, atol=1e-15)
     assert n_closed > 100  # the loads are sums over many closed contacts, not zeros
 
@@ -452,13 +454,14 @@ def test_the_pins_bound_holds_with_a_tiny_lever_among_the_largest(model, sign):
     c = model.chain
     lev = sign * np.array([60000.0, 59000.0, 58000.0, 3.0, -60000.0])  # output-referred [um/rad]
     gaps = np.array([0.0, 0.5, 1.0, 0.0, 0.0])
-    laws = np.full(5, el.pin_law_a(0.3, c))
-    bounds = np.empty(5)
-    el.set_bounds(gaps, lev, 5, bounds)
+    laws = np.full(5, ch.pin_law_a(0.3, c))
+    bounds = sv.set_bounds(gaps, lev, 5)
     load = sign * c.rated_torque_nm
-    x = el._pins_bound(gaps, lev, laws, bounds, c, load)
-    carried = el.set_load(x, gaps, lev, laws, c.law_b, c.law_n, 1e-6, 5, np.zeros(5))[0]
+    x = ch._pins_bound(gaps, lev, laws, bounds, c, load)
+    law = sv.ContactLaw(c.law_b, c.law_n, 1e-6)
+    carried = sv.set_load(x, sv.ContactSet(gaps, lev, laws, bounds, np.zeros(5), -1, 0), law)[0]
     assert sign * carried >= c.rated_torque_nm
     # and a useful bound: the solved rotation is not far below it
-    solved = el.solve_set(gaps, lev, laws, c.law_b, c.law_n, 1e-6, 5, bounds, np.zeros(5), load, sign, np.nan)
+    solved = sv.solve_set(sv.ContactSet(gaps, lev, laws, bounds, np.zeros(5), -1, 0), law, load, sign, np.nan,
+                          (np.nan, np.nan)).x
     assert abs(solved) <= abs(x) < 1.5 * abs(solved)

@@ -139,3 +139,25 @@ def test_group_shares_name_the_groups_a_unit_has(problem):
     assert res.te_peak_to_peak_arcsec > 1.0
     assert res.to_frame().shape == (8 * problem.cycloid.zp + 1, 4)
     assert "peak-to-peak" in repr(res)
+
+
+def test_a_fine_revolution_is_solved_a_table_at_a_time(problem, monkeypatch):
+    """Beyond TABLE_POSITIONS output positions a revolution's mesh tables are built a part at a time
+    (issue 27: ``transmission-error --positions 65536`` took 2 GB for one unit): the same numbers as
+    one table, in bounded memory (numpy's allocations are traced)."""
+    import tracemalloc
+
+    from rvbacklash.models import kinematics as km
+
+    unit = perfect_unit(problem).with_(planet_eccentricity_um=np.array([[3.0, 0.0], [0.0, 0.0], [0.0, -2.0]]))
+    n = 8192
+    tracemalloc.start()
+    parts = revolution(problem, unit, n, table=None)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    assert peak < 80e6  # one table of 8192 positions is 73 MB alone, ~250 MB with its temporaries
+    monkeypatch.setattr(km, "TABLE_POSITIONS", 1 << 20)  # one table
+    whole = revolution(problem, unit, n, table=None)
+    for name in ("theta_rad", "ccw_rad", "cw_rad", "preload_um"):
+        assert np.array_equal(getattr(parts, name), getattr(whole, name)), name
+    assert np.ptp(parts.ccw_rad) > 0.0

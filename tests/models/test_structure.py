@@ -1,4 +1,4 @@
-"""The whole torque path (issue 16; models/compliance.py, models/elastic.py with [structure]):
+"""The whole torque path (issue 16; models/compliance.py, models/elastic/ with [structure]):
 each formula against an independent closed form or a numeric solve, the chain's invariants, its
 rigid limit (today's numbers), the disc's sideways motion, bad input."""
 
@@ -12,6 +12,8 @@ import pytest
 from rvbacklash.errors import InputError
 from rvbacklash.models import compliance as cm
 from rvbacklash.models import elastic as el
+from rvbacklash.models.elastic import chain as ch
+from rvbacklash.models.elastic import solver as sv
 from rvbacklash.problem import prepare
 from rvbacklash.units import ARCMIN_PER_RAD
 
@@ -124,7 +126,7 @@ def test_pin_radial_closure_against_the_exact_geometry(problem):
         moved = r.runout_um.copy()
         moved[:, 0] += 1e-3
         closure = -(el.unit_from_realization(problem, r.with_(runout_um=moved), 0.0, 0.0).gap_um - base) / 1e-3
-        m = np.array([[cm.pin_radial_closure(el.pin_phase(d * g.zp + j, chi, g.zp, g.discs), g.K1)
+        m = np.array([[cm.pin_radial_closure(ch.pin_phase(d * g.zp + j, chi, g.zp, g.discs), g.K1)
                        for j in range(g.zp)] for d in range(g.discs)])
         # the clearance offsets the contact normal slightly from the nominal one
         np.testing.assert_allclose(closure, m, atol=5e-3)
@@ -134,12 +136,13 @@ def test_pin_radial_closure_against_the_exact_geometry(problem):
 # --- support bearings: Harris & Kotzalas's load zone ---------------------------------------------
 
 def support_set(model, clearance_um=0.0):
-    return el.prepare_support(model.chain._replace(support_clearance_um=clearance_um))
+    return ch.prepare_support(model.chain._replace(support_clearance_um=clearance_um))
 
 
 def support_deflection(model, load_n, clearance_um=0.0):
-    g, lv, la, z, bounds, work, _ = support_set(model, clearance_um)
-    return el.solve_set(g, lv, la, 0.0, cm.PALMGREN_EXPONENT, 1.0, z, bounds, work, load_n, 1.0, np.nan), (g, lv, la)
+    cs = support_set(model, clearance_um).contacts
+    return sv.solve_set(cs, sv.ContactLaw(0.0, cm.PALMGREN_EXPONENT, 1.0), load_n, 1.0, np.nan,
+                        (np.nan, np.nan)).x, (cs.gaps, cs.levers, cs.law_a)
 
 
 def test_support_bearing_peak_roller_load_is_stribecks(model):
@@ -148,7 +151,7 @@ def test_support_bearing_peak_roller_load_is_stribecks(model):
     c = model.chain
     fr = 3000.0
     dr, (g, lv, la) = support_deflection(model, fr)
-    q = np.array([el.law_force(x, la[0], 0.0, cm.PALMGREN_EXPONENT, 0.0)[0] if x > 0 else 0.0 for x in lv * dr - g])
+    q = np.array([sv.law_force(x, la[0], 0.0, cm.PALMGREN_EXPONENT, 0.0)[0] if x > 0 else 0.0 for x in lv * dr - g])
     assert float(q @ lv) == pytest.approx(fr, rel=1e-10)  # the radial balance
     assert q.max() == pytest.approx(4.08 * fr / (c.support_rollers * c.support_cos_alpha), rel=0.02)
     # the heaviest roller's approach (Palmgren, two contacts) is the bearing's radial deflection times cos alpha
@@ -231,7 +234,7 @@ def test_full_translation_balances_the_pins_radial_resultant(problem):
         y = pu.translation_um()
         f = pu.pin_forces_n(x)
         g = problem.cycloid
-        m = np.array([[cm.pin_radial_closure(el.pin_phase(d * g.zp + j, u.chi_rad, g.zp, g.discs), g.K1)
+        m = np.array([[cm.pin_radial_closure(ch.pin_phase(d * g.zp + j, u.chi_rad, g.zp, g.discs), g.K1)
                        for j in range(g.zp)] for d in range(g.discs)])
         radial = (f * m).sum(axis=1) + c.radial_stiffness_n_per_um * y
         assert np.abs(radial).max() < 1e-6 * f.sum()  # each disc's pins balance its bearings along the eccentric

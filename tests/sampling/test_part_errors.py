@@ -5,8 +5,8 @@ import pytest
 
 from rvbacklash.analysis.simulation import simulate
 from rvbacklash.problem.contact_errors import IndexedPart
-from rvbacklash.sampling.part_errors import (TARGET_CONFORMITY, HarmonicPart, calibrate, conforms,
-                                             harmonic_deviations, sample_parts)
+from rvbacklash.sampling.part_errors import (TARGET_CONFORMITY, HarmonicPart, Wave, calibrate, conforms,
+                                             element_harmonics, harmonic_deviations, sample_parts)
 
 
 @pytest.fixture(scope="module")
@@ -54,12 +54,11 @@ def test_compiled_and_vectorised_deviations_agree():
     h = HarmonicPart(2.0, 1.0, 0.7, 0.5, 0.0)
     normals = np.random.default_rng(0).standard_normal((3, 4 + 2 * 12))
     t, r = sample_parts(part, h, normals)
-    th = 2 * np.pi * np.arange(12) / 12
-    trig = np.stack([np.cos(th), np.sin(th), np.cos(2 * th), np.sin(2 * th)])
+    trig = element_harmonics(12)
     for k in range(3):
         tc, rc = np.empty(12), np.empty(12)
         n = normals[k]
-        harmonic_deviations(n[0] * 2, n[1] * 2, n[2] * 1, n[3] * 1, n[4:16] * 0.7, n[16:28] * 0.5, trig, tc, rc)
+        harmonic_deviations(Wave(n[0] * 2, n[1] * 2, n[2] * 1, n[3] * 1), n[4:16] * 0.7, n[16:28] * 0.5, trig, tc, rc)
         np.testing.assert_allclose(tc, t[k], atol=1e-12)
         np.testing.assert_allclose(rc, r[k], atol=1e-12)
 

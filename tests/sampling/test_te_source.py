@@ -45,7 +45,9 @@ def test_the_runs_units_are_the_contact_models(problem):
     from rvbacklash.models.contact import kernel_play
     from rvbacklash.sampling.contact_source import contact_source
 
-    src = replace(transmission_source(problem, "default", 4), sigmas_um=np.zeros(4))
+    from rvbacklash.sampling.te_source import KinematicSigmas
+
+    src = replace(transmission_source(problem, "default", 4), sigmas=KinematicSigmas(0.0, 0.0, 0.0, 0.0))
     out = src.block(0, 6)
     c = contact_source(problem, "default", 4, save_units=6)
     c.block(0, 6)
@@ -77,8 +79,8 @@ def test_fast_path_tracks_the_exact_solve(problem):
 def test_bad_input(problem):
     with pytest.raises(InputError, match="method"):
         transmission_source(problem, "sobol", 1)
-    with pytest.raises(InputError, match="save_units"):
-        transmission_source(problem, "default", 1, save_units=3)
+    with pytest.raises(InputError, match="save_units"):  # the first units are saved from a block's first chunk
+        transmission_source(problem, "default", 1, save_units=te_source.CHUNK + 1)
 
 
 def test_sobol_streams_of_te_name_the_kinematic_factors(problem):
@@ -92,3 +94,32 @@ def test_sobol_streams_of_te_name_the_kinematic_factors(problem):
     gens = lambda: [Generator(PCG64(k)) for k in range(len(sm.inputs))]  # noqa: E731
     a, b = sm.block(gens(), 5), sm.block(gens(), 5)
     assert a.shape == (3, 5) and np.array_equal(a, b)
+
+
+def test_saved_units_carry_their_kinematic_errors(problem, tmp_path):
+    """``--save-units`` with the transmission model (issue 27): each saved unit holds its kinematic
+    errors (the gears' eccentricities, the crank holes), survives the measured-unit file, and re-run
+    alone on the exact geometry at the run's output positions gives the TE the production run found
+    for it (its fast path: within 0.2 %)."""
+    from rvbacklash.analysis.contact import measured_units, unit_realization
+    from rvbacklash.design.measured import load_units, units_to_toml
+    from rvbacklash.models.kinematics import reference_revolution
+
+    r = simulate(problem, samples=12, seed=3, model="transmission", save_units=3, workers=1)
+    assert len(r.units) == 3
+    path = tmp_path / "units.toml"
+    path.write_text(units_to_toml(measured_units(problem, r.units)))
+    assert path.read_text().count("[unit.kinematics]") == 3
+    loaded = load_units(path, problem.design)
+    run = transmission_source(problem, "default", 3).block(0, 3)  # the run's first block: its TE p-p per unit
+    for k, (saved, lin, stage) in enumerate(r.units):
+        again = unit_realization(problem, loaded[k])
+        for name in ("planet_eccentricity_um", "disc_crank_hole_um", "carrier_crank_hole_um",
+                     "centre_gear_eccentricity_um"):
+            # the file keeps 10 significant digits (design/measured.py)
+            np.testing.assert_allclose(np.asarray(getattr(again, name)), getattr(saved, name), rtol=1e-9, atol=1e-12)
+            assert np.abs(getattr(saved, name)).max() > 0.0, name  # drawn, not zeros
+        assert lin + stage == pytest.approx(run[0, k], rel=1e-12)
+        positions = te_source.POSITIONS_PER_PIN * problem.cycloid.zp  # the production run's
+        curve = revolution(problem, again, positions).ccw_rad - reference_revolution(problem, positions).ccw_rad
+        assert np.ptp(curve) * ARCSEC_PER_RAD == pytest.approx(run[1, k], rel=2e-3)  # exact against the fast path

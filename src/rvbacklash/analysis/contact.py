@@ -7,10 +7,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rvbacklash.design.measured import MeasuredDisc, MeasuredPins, MeasuredUnit
+from rvbacklash.design.measured import MeasuredDisc, MeasuredKinematics, MeasuredPins, MeasuredUnit
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
 from rvbacklash.geometry.cycloid import ContactGeometry, profile_points, rotate
-from rvbacklash.models.contact import MeshPlay, Realization, exact_gaps_um, exact_play
+from rvbacklash.models.contact import MeshPlay, exact_gaps_um, exact_play
+from rvbacklash.models.unit_errors import Realization
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -177,7 +178,8 @@ def measured_contact(problem: Problem, unit: MeasuredUnit, label: str = "measure
 
 
 def measured_units(problem: Problem, saved: tuple) -> list[MeasuredUnit]:
-    """The units a Monte-Carlo run saved (SimulationResult.units) in the measured-unit format."""
+    """The units a Monte-Carlo run saved (SimulationResult.units) in the measured-unit format (with
+    their kinematic errors when the run drew them: the transmission model)."""
     s2 = problem.design.second_stage
     out = []
     for r, linear_arcmin, stage in saved:
@@ -192,5 +194,10 @@ def measured_units(problem: Problem, saved: tuple) -> list[MeasuredUnit]:
                                 moving_distance_error_um=float(r.moving_distance_um[d]
                                                                - s2.moving_distance_modification_um),
                                 runout_um=r.runout_um[d].tolist(), eccentricity_error_um=float(r.eccentricity_error_um[d]))
-                   for d in range(problem.cycloid.discs)]))
+                   for d in range(problem.cycloid.discs)],
+            kinematics=MeasuredKinematics() if r.planet_eccentricity_um is None else MeasuredKinematics(
+                centre_gear_eccentricity_um=np.asarray(r.centre_gear_eccentricity_um, float).tolist(),
+                planet_eccentricity_um=np.asarray(r.planet_eccentricity_um, float).tolist(),
+                carrier_crank_holes_um=np.asarray(r.carrier_crank_hole_um, float).tolist(),
+                disc_crank_holes_um=np.asarray(r.disc_crank_hole_um, float).tolist())))
     return out

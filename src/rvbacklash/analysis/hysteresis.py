@@ -281,6 +281,7 @@ def elastic_section(problem: Problem, *, simulation=None, specs: Mapping[str, fl
     """The report's elastic section: the nominal loop and the loops of the units nearest the given
     quantiles of lost motion in ``samples`` units drawn with ``seed`` (the Monte-Carlo sampler's
     drawing), beside a simulation run with ``model="elastic"`` if given."""
+    from rvbacklash.models.elastic import loop_design
     from rvbacklash.sampling.elastic_source import design_pin_laws, evaluate_batch, sample_units
 
     for p in probabilities:
@@ -290,7 +291,7 @@ def elastic_section(problem: Problem, *, simulation=None, specs: Mapping[str, fl
         raise InputError("samples", samples, "allowed: 10 to 1e6 units")
     model = elastic_model(problem)
     units = sample_units(problem, int(seed), int(samples))
-    lm = evaluate_batch(model, units, design_pin_laws(model))[0]
+    lm = evaluate_batch(loop_design(model, design_pin_laws(model)), units)[0]
     picked = {}
     for p in probabilities:
         i = int(np.argmin(np.abs(lm - np.quantile(lm, p))))

@@ -40,7 +40,8 @@ def _linear(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = 
     from rvbacklash.models.linear import linear_model
 
     if save_units:
-        raise InputError("save_units", save_units, "allowed with the contact and elastic models (per-unit errors); "
+        raise InputError("save_units", save_units, "allowed with the contact, elastic and transmission models "
+                                                   "(per-unit errors); "
                                                    "the linear model has no units to save")
     return linear_source(method, seed, build_input_transform(problem), linear_model(problem),
                          problem.sensitivities_arcmin_per_um, stream)

@@ -18,9 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rvbacklash.errors import InputError
-from rvbacklash.models.contact import Realization
+from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          perfect_unit, position_table, reference_revolution,
+                                          cached_table, perfect_unit, reference_revolution,
                                           revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
@@ -160,11 +160,11 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     if load_direction not in LOAD_DIRECTIONS:
         raise InputError("load_direction", load_direction, f"allowed: {', '.join(LOAD_DIRECTIONS)}")
     g = problem.cycloid
-    table = position_table(g, positions, float(r.chi_rad))
-    theta = table[0]
+    table = cached_table(g, positions, float(r.chi_rad))  # None beyond TABLE_POSITIONS: solved a part at a time
     perfect = perfect_unit(problem, r.chi_rad)
     ref = reference_revolution(problem, positions, float(r.chi_rad))
     run = revolution(problem, r, positions, table=table)
+    theta = ref.theta_rad
 
     def te(rev: Revolution) -> tuple[np.ndarray, np.ndarray]:
         return (rev.ccw_rad - ref.ccw_rad) * ARCSEC_PER_RAD, (rev.cw_rad - ref.cw_rad) * ARCSEC_PER_RAD

@@ -56,7 +56,8 @@ def simulate(
     error_model: Optional[str] = ERROR_MODEL_OPTION,
     save_units: Optional[tuple[int, Path]] = typer.Option(
         None, "--save-units", help="Write the first N units with their errors to FILE (TOML, the measured-unit "
-                                   "format; contact/elastic models).", metavar="N FILE"),
+                                   "format; contact, elastic and transmission models: the transmission model's "
+                                   "with their kinematic errors).", metavar="N FILE"),
     spec_lost_motion_arcmin: Optional[float] = SPEC_LOST_MOTION_OPTION,
     spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
     spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,

@@ -15,17 +15,30 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
 # 99.73 % of a normal lies within +-3 sigma; the zone covers the same share of every reading.
 ZONE_COVERAGE = 0.9973002039367398  # = erf(3 / sqrt(2))
 
-# Branches of the compiled sampler (sampling.contact_source.draw). KERNEL_TABLE draws any law
+# Branches of the compiled sampler (sampling.unit_draw.draw). KERNEL_TABLE draws any law
 # from its inverse cdf tabulated at TABLE_POINTS probabilities.
 KERNEL_FIXED, KERNEL_NORMAL, KERNEL_UNIFORM, KERNEL_TRUNCNORM, KERNEL_RAYLEIGH, KERNEL_TABLE = range(6)
 TABLE_POINTS = 4097
+
+
+class KernelLaw(NamedTuple):
+    """How the compiled sampler draws one factor [um]: its branch (KERNEL_*) and the parameters
+    that branch reads: fixed: loc; normal: loc + scale z; uniform: lower + (upper - lower) u;
+    truncated normal: loc + scale z redrawn until it lies in [lower, upper]; Rayleigh: loc + scale
+    sqrt(-2 ln(1 - u)); table: none (the tabulated inverse cdf)."""
+
+    code: int
+    loc: float = 0.0
+    scale: float = 0.0
+    lower: float = 0.0
+    upper: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -159,15 +172,15 @@ def _rayleigh_moments(z) -> tuple[float, float]:
 def _rayleigh_kernel(z):
     s = _rayleigh_scale(z)
     if z.kind == "phase":
-        return KERNEL_NORMAL, (0.0, s, 0.0, 0.0)
-    return KERNEL_RAYLEIGH, (z.lower_um, s, 0.0, 0.0)
+        return KernelLaw(KERNEL_NORMAL, 0.0, s)
+    return KernelLaw(KERNEL_RAYLEIGH, z.lower_um, s)
 
 
 def _normal_kernel(z):
     s = _sigma(z)
     if s > 0:
-        return KERNEL_NORMAL, (_mean(z), s, 0.0, 0.0)
-    return KERNEL_FIXED, (fixed_value_um(z), 0.0, 0.0, 0.0)
+        return KernelLaw(KERNEL_NORMAL, _mean(z), s)
+    return KernelLaw(KERNEL_FIXED, fixed_value_um(z))
 
 
 @dataclass(frozen=True)
@@ -181,7 +194,7 @@ class Distribution:
     needs_width: bool  # refuses a zone of zero width
     scipy: Callable[[ResolvedZone], Any]  # frozen scipy.stats law, None for a deterministic value
     moments: Callable[[ResolvedZone], tuple[float, float]]  # (mean, sigma) [um]
-    kernel: Callable[[ResolvedZone], tuple[int, tuple[float, float, float, float]]] | None = None
+    kernel: Callable[[ResolvedZone], KernelLaw] | None = None
     normal: Callable[[ResolvedZone], bool] = lambda z: False  # the law is exactly normal (closed forms)
 
 
@@ -194,12 +207,12 @@ REGISTRY: dict[str, Distribution] = {d.name: d for d in (
     Distribution(
         "uniform", "uniform over the zone", (), None, True, _scipy_uniform,
         lambda z: (zone_mean_um(z.lower_um, z.upper_um), (z.upper_um - z.lower_um) / math.sqrt(12.0)),
-        lambda z: (KERNEL_UNIFORM, (z.lower_um, z.upper_um, 0.0, 0.0))),
+        lambda z: KernelLaw(KERNEL_UNIFORM, lower=z.lower_um, upper=z.upper_um)),
     Distribution(
         "truncated_normal", "the normal above (same mean_um / sigma_um), truncated to the zone",
         ("mean_um", "sigma_um"), None, True, _scipy_truncnorm,
         lambda z: truncated_normal_moments(_mean(z), _sigma(z), z.lower_um, z.upper_um),
-        lambda z: (KERNEL_TRUNCNORM, (_mean(z), _sigma(z), z.lower_um, z.upper_um))),
+        lambda z: KernelLaw(KERNEL_TRUNCNORM, _mean(z), _sigma(z), z.lower_um, z.upper_um)),
     Distribution(
         "rayleigh", "Rayleigh magnitude for magnitude-type errors, scale = limit / 3.4393 (99.73 % inside); on a "
                     "phase-weighted quantity R cos(theta) with a uniform phase, i.e. normal with sigma = scale",
@@ -208,7 +221,7 @@ REGISTRY: dict[str, Distribution] = {d.name: d for d in (
     Distribution(
         "fixed", "a deterministic value: value_um, else the zone centre", ("value_um",), None, False,
         lambda z: None, lambda z: (fixed_value_um(z), 0.0),
-        lambda z: (KERNEL_FIXED, (fixed_value_um(z), 0.0, 0.0, 0.0))),
+        lambda z: KernelLaw(KERNEL_FIXED, fixed_value_um(z))),
 )}
 
 NAMES: tuple[str, ...] = tuple(REGISTRY)
@@ -238,12 +251,12 @@ def is_normal(z: ResolvedZone) -> bool:
     return REGISTRY[z.distribution].normal(z)
 
 
-def kernel_draw(z: ResolvedZone) -> tuple[int, tuple[float, float, float, float]]:
-    """(branch, 4 parameters) of the compiled sampler for this zone; a law without a branch of
-    its own is drawn from its tabulated inverse cdf (parameters unused)."""
+def kernel_draw(z: ResolvedZone) -> KernelLaw:
+    """How the compiled sampler draws this zone; a law without a branch of its own is drawn from
+    its tabulated inverse cdf."""
     entry = REGISTRY[z.distribution]
     if entry.kernel is None:
-        return KERNEL_TABLE, (0.0, 0.0, 0.0, 0.0)
+        return KernelLaw(KERNEL_TABLE)
     return entry.kernel(z)
 
 

@@ -19,8 +19,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+
+
+class StageGeometry(NamedTuple):
+    """The cycloid stage as the compiled kernels read it (``ContactGeometry.stage_geometry``)."""
+
+    a_mm: float  # eccentricity a
+    rp_mm: float  # pin circle radius r_p
+    zc: int  # teeth per disc
+    zp: int  # pins
+    discs: int
+    pitch_radius_um: float  # a z_c [um]: the lever at which a disc's rotation is referred to (Eq. (1))
 
 
 @dataclass(frozen=True)
@@ -48,6 +60,11 @@ class ContactGeometry:
     def pin_angles(self) -> np.ndarray:
         """psi_j = 2 pi j / z_p [rad]."""
         return 2 * math.pi * np.arange(self.zp) / self.zp
+
+    @property
+    def stage_geometry(self) -> StageGeometry:
+        return StageGeometry(float(self.a_mm), float(self.rp_mm), int(self.zc), int(self.zp), int(self.discs),
+                             float(self.pitch_radius_um))
 
     def disc_crank_angle(self, chi: float, d: int) -> float:
         """Discs sit on eccentrics 360/discs degrees apart (180 deg for two) [rad]."""

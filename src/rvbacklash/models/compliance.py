@@ -2,13 +2,14 @@
 
 Units: forces [N], lengths [mm], moduli [N/mm^2] (= MPa) unless a name says otherwise,
 approaches [um], torques [N m], angles [rad]. The scalar formulas are compiled with numba
-(``njit``) so that the Monte-Carlo kernel (``models/elastic.py``) runs exactly the functions the
+(``njit``) so that the Monte-Carlo kernel (``models/elastic/``) runs exactly the functions the
 tests check; they are callable from Python with plain floats.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from rvbacklash._numba import njit
 
@@ -18,6 +19,16 @@ RELATIVE_RADIUS_CAP = 10.0  # near-conformal contacts: relative radius capped at
 
 
 # --- Hertz line contact (Johnson, Contact Mechanics, Cambridge University Press 1985, ch. 4) ----
+
+class Body(NamedTuple):
+    """One of two cylinders in line contact: its radius R [mm] (for a concave or non-circular body:
+    the depth to which its displacement is referred, see docs/elastic.md), Young's modulus [GPa],
+    Poisson's ratio [-]."""
+
+    radius_mm: float
+    youngs_modulus_gpa: float
+    poisson_ratio: float
+
 
 @njit(cache=True)
 def contact_modulus_n_per_mm2(e1_gpa, nu1, e2_gpa, nu2):
@@ -83,8 +94,7 @@ def line_contact_peak_pressure_mpa(force_n, length_mm, half_width_mm):
 
 
 @njit(cache=True)
-def johnson_line_approach_um(force_n, length_mm, body1_radius_mm, e1_gpa, nu1, body2_radius_mm, e2_gpa, nu2,
-                             relative_radius):
+def johnson_line_approach_um(force_n, length_mm, body1, body2, relative_radius):
     """Elastic approach of two cylinders in line contact (distance between their axes):
 
         delta = (2 P / pi) sum_k (1 - nu_k^2)/E_k (ln(4 R_k / a) - 1/2),  P = F / L,
@@ -92,11 +102,12 @@ def johnson_line_approach_um(force_n, length_mm, body1_radius_mm, e1_gpa, nu1, b
 
     Source: Johnson, Contact Mechanics (1985), ch. 4, the compression of two cylinders in line
     contact (section 4.3, Eq. (4.45) [numbering unverified]); ../shared/reference/anchors.md.
-    Parameters: force_n F [N]; length_mm L [mm]; body radii R_k [mm] (for a concave or non-circular
-    body: the depth to which its displacement is referred, see docs/elastic.md); Young's moduli
-    [GPa], Poisson's ratios [-]; relative_radius R [mm]. Returns delta [um].
+    Parameters: force_n F [N]; length_mm L [mm]; the two bodies (``Body``: R_k [mm], Young's modulus
+    [GPa], Poisson's ratio [-]); relative_radius R [mm]. Returns delta [um].
     Validity: a << R_k (the log stays > 1/2), elastic, no edge effects along L.
     """
+    body1_radius_mm, e1_gpa, nu1 = body1.radius_mm, body1.youngs_modulus_gpa, body1.poisson_ratio
+    body2_radius_mm, e2_gpa, nu2 = body2.radius_mm, body2.youngs_modulus_gpa, body2.poisson_ratio
     e_star = contact_modulus_n_per_mm2(e1_gpa, nu1, e2_gpa, nu2)
     a = line_contact_half_width_mm(force_n, length_mm, relative_radius, e_star)
     p = force_n / length_mm
@@ -107,7 +118,7 @@ def johnson_line_approach_um(force_n, length_mm, body1_radius_mm, e1_gpa, nu1, b
 
 
 @njit(cache=True)
-def johnson_law_a_um_per_n(length_mm, body1_radius_mm, e1_gpa, nu1, body2_radius_mm, e2_gpa, nu2, relative_radius):
+def johnson_law_a_um_per_n(length_mm, body1, body2, relative_radius):
     """Coefficient a of Johnson's approach written as delta = F (a - b ln F) [um, N].
 
     Expanding ln(4 R_k / a) with a^2 = 4 F R / (pi L E*) in ``johnson_line_approach_um``:
@@ -115,6 +126,8 @@ def johnson_law_a_um_per_n(length_mm, body1_radius_mm, e1_gpa, nu1, body2_radius
     (the same formula, rearranged so that the kernel can invert it). Parameters as
     ``johnson_line_approach_um``. Returns a [um/N].
     """
+    body1_radius_mm, e1_gpa, nu1 = body1.radius_mm, body1.youngs_modulus_gpa, body1.poisson_ratio
+    body2_radius_mm, e2_gpa, nu2 = body2.radius_mm, body2.youngs_modulus_gpa, body2.poisson_ratio
     e_star = contact_modulus_n_per_mm2(e1_gpa, nu1, e2_gpa, nu2)
     c1 = (1.0 - nu1 * nu1) / (e1_gpa * 1e3)
     c2 = (1.0 - nu2 * nu2) / (e2_gpa * 1e3)

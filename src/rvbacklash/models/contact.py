@@ -21,52 +21,19 @@ first contact of either disc; a disc's rotation is referred to the output as in 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
+from typing import NamedTuple
 
 from rvbacklash._numba import njit, njit_borrowing
 import numpy as np
 from scipy import optimize
 
 from rvbacklash.geometry.cycloid import ContactGeometry, PinCentreCurve, rotate
+from rvbacklash.models.unit_errors import Realization, unit_errors
 from rvbacklash.units import ARCMIN_PER_RAD
 
 PRELOAD_TOL_UM = 1e-6  # interference below a picometre is contact, not preload (round-off of the geometry)
 PRELOAD_STEP_UM = 1e-6  # the preload's max-min search stops when the two lowest gaps agree to a picometre
-
-
-@dataclass
-class Realization:
-    """One set of errors [um] (angles [rad]); arrays per pin (z_p) and per disc."""
-
-    chi_rad: float
-    pin_radial_um: np.ndarray
-    pin_tangential_um: np.ndarray
-    pin_radius_um: np.ndarray
-    pin_clearance_um: np.ndarray
-    tooth_pitch_um: np.ndarray  # (discs, z_c): cumulative pitch error of each tooth space, arc at r_p
-    runout_um: np.ndarray  # (discs, 2): profile-centre offset along / across the eccentric
-    eccentricity_error_um: np.ndarray  # (discs,)
-    equidistance_um: np.ndarray  # (discs,) total dr_rp of each disc
-    moving_distance_um: np.ndarray  # (discs,) total dr_p of each disc
-    # the rest of the unit, for the elastic model (None: the stage's nominal value)
-    crank_clearance_um: float | None = None  # radial clearance of the crank needle bearings
-    involute_backlash_rad: float | None = None  # the involute stage's backlash at the output, >= 0
-    # the kinematic errors of the transmission-error model (models.kinematics; None: zero)
-    centre_gear_eccentricity_um: np.ndarray | None = None  # (2,) in the centre gear's frame
-    planet_eccentricity_um: np.ndarray | None = None  # (planets, 2) each in its planet's frame
-    disc_crank_hole_um: np.ndarray | None = None  # (discs, planets, 2) hole position errors, disc frame
-    carrier_crank_hole_um: np.ndarray | None = None  # (planets, 2) hole position errors, carrier frame
-
-    @classmethod
-    def nominal(cls, g: ContactGeometry, equidistance_um: float = 0.0, moving_distance_um: float = 0.0,
-                clearance_um: float = 0.0, chi_rad: float = 0.0) -> "Realization":
-        z = np.zeros(g.zp)
-        return cls(chi_rad, z.copy(), z.copy(), z.copy(), np.full(g.zp, clearance_um),
-                   np.zeros((g.discs, g.zc)), np.zeros((g.discs, 2)), np.zeros(g.discs),
-                   np.full(g.discs, float(equidistance_um)), np.full(g.discs, float(moving_distance_um)))
-
-    def with_(self, **changes) -> "Realization":
-        return replace(self, **changes)
 
 
 @dataclass(frozen=True)
@@ -134,16 +101,76 @@ RHO_MAX_MM = 1e3  # near an inflection of C its osculating circle is a line: 1 m
 # the osculating circle's error is third order in the displacement over its radius, so a pin on a
 # tightly bent stretch of C (radius below RHO_TIGHT_MM, near the tooth tips) gets the wide band.
 BAND_WIDE, BAND_NARROW, RHO_TIGHT_MM = 0.10, 0.005, 3.0
-# stage_play's scratch (stage_work), each row (discs, z_p): the pin centres (x, y), the contact
-# estimates (before them, unit_gaps' gathered tooth pitch errors), the closing distances, and the
-# gaps and levers of _lowest_gaps
-WORK_ROWS = 6
+
+
+class PinGaps(NamedTuple):
+    """Every pin's gap and lever at zero rotation, (discs, z_p) each (unit_gaps): what the elastic
+    model reads of a unit."""
+
+    gap_um: np.ndarray  # free gap of pin j to disc d, normal to the profile [um] (negative: interference)
+    lever_um_per_rad: np.ndarray  # gap(beta) = gap - lever beta [um/rad] (> 0 stops a ccw rotation)
+
+
+class StageWork(NamedTuple):
+    """Scratch of unit_gaps and stage_play, (discs, z_p) each."""
+
+    pin_x_mm: np.ndarray  # each pin's centre in its disc's frame (unit_gaps)
+    pin_y_mm: np.ndarray
+    pin_tooth_pitch_um: np.ndarray  # the tooth pitch error facing each pin, gathered (unit_gaps)
+    closing_distance_mm: np.ndarray  # the distance from its osculating circle's centre at which a gap closes
+    estimate_rad: np.ndarray  # each pin's estimated contact rotation (stage_play)
+    value_um: np.ndarray  # each gap and its lever on the osculating circles at one rotation (_lowest_gaps)
+    lever_um_per_rad: np.ndarray
+
+
+class StagePlay(NamedTuple):
+    """The cycloid stage's play (stage_play): its free rotation from the assembled position in
+    each direction [rad] and the pin (and its disc) that stops it; when preloaded, NaN plays, pins
+    -1 and the preload [um] (0 when free)."""
+
+    play_ccw_rad: float
+    play_cw_rad: float
+    preload_um: float
+    pin_ccw: int
+    disc_ccw: int
+    pin_cw: int
+    disc_cw: int
+
+
+class DiscFrame(NamedTuple):
+    """Where a disc sits (pin_in_disc): the cos and sin of its crank angle chi_d and of its turn
+    chi_d / z_c, and its profile's offset: run-out along and across the eccentric, eccentricity
+    error [um]."""
+
+    cos_chi: float
+    sin_chi: float
+    cos_turn: float
+    sin_turn: float
+    runout_along_um: float
+    runout_across_um: float
+    eccentricity_error_um: float
+
+
+class Turn(NamedTuple):
+    """A disc rotation's start beta [rad] (its cos and sin) and direction (+1: counter-clockwise)."""
+
+    beta_rad: float
+    cos_beta: float
+    sin_beta: float
+    sign: float
 
 
 @njit(nogil=True, cache=True)
 def stage_work(discs, zp):
     """Scratch space of stage_play and unit_gaps."""
-    return np.empty((WORK_ROWS, discs, zp))
+    return StageWork(np.empty((discs, zp)), np.empty((discs, zp)), np.empty((discs, zp)), np.empty((discs, zp)),
+                     np.empty((discs, zp)), np.empty((discs, zp)), np.empty((discs, zp)))
+
+
+@njit(nogil=True, cache=True)
+def pin_gaps(discs, zp):
+    """An empty PinGaps to compute into."""
+    return PinGaps(np.empty((discs, zp)), np.empty((discs, zp)))
 
 
 def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
@@ -253,24 +280,29 @@ def turned_gap(px, py, beta, base_um, a, rg, zc, t0):
 
 
 @njit(nogil=True, cache=True)
-def exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, t0):
+def exact_gap_um(j, d, beta, chi, stage, unit, t0):
     """Exact gap [um] of pin j to disc d turned by beta [rad]: the pin centre with all its errors
     in the disc frame, its signed distance from the modified pin-centre curve (the compiled form
     of ``exact_gaps_um``, one pin at a time)."""
-    px, py = pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da)
-    return turned_gap(px, py, beta, eq[d] - rho[j] + 0.5 * cl[j], a, rp + md[d] * 1e-3, zc, t0)[0]
+    px, py = pin_frame(j, d, chi, stage, unit)
+    base = unit.equidistance_um[d] - unit.pin_radius_um[j] + 0.5 * unit.pin_clearance_um[j]
+    return turned_gap(px, py, beta, base, stage.a_mm, stage.rp_mm + unit.moving_distance_um[d] * 1e-3, stage.zc,
+                      t0)[0]
 
 
 @njit(nogil=True, cache=True)
-def pin_in_disc(cpsi, spsi, ex, ey, cang, sang, dr_j, dt_j, tooth, a, rp, ux_d, uy_d, da_d):
+def pin_in_disc(cpsi, spsi, dr_j, dt_j, tooth, frame, a, rp):
     """Centre of a pin with all its errors in the frame of its disc (not turned) [mm]: the pin at
     angle psi (cos, sin) displaced radially by dr and tangentially by dt [um], less the disc
-    centre a (1 + da) along the eccentric e and its profile offset (ux, uy) [um], turned into the
-    disc frame by chi_d / z_c (cos, sin) and back by the tooth space's pitch error [um] at r_p."""
+    centre a (1 + da) along the eccentric e and its profile offset (ux, uy) [um] (``frame``, a
+    DiscFrame), turned into the disc frame by chi_d / z_c and back by the tooth space's pitch error
+    [um] at r_p."""
+    ex, ey, cang, sang = frame.cos_chi, frame.sin_chi, frame.cos_turn, frame.sin_turn
+    ux_d, uy_d = frame.runout_along_um, frame.runout_across_um
     rad = rp + dr_j * 1e-3
     cx = rad * cpsi - dt_j * 1e-3 * spsi
     cy = rad * spsi + dt_j * 1e-3 * cpsi
-    off = a + da_d * 1e-3
+    off = a + frame.eccentricity_error_um * 1e-3
     px = cx - off * ex - (ux_d * ex - uy_d * ey) * 1e-3
     py = cy - off * ey - (ux_d * ey + uy_d * ex) * 1e-3
     dl = -tooth * 1e-3 / rp  # a pitch error is a small angle: cos, sin to 4th order
@@ -281,13 +313,16 @@ def pin_in_disc(cpsi, spsi, ex, ey, cang, sang, dr_j, dt_j, tooth, a, rp, ux_d, 
 
 
 @njit(nogil=True, cache=True)
-def pin_frame(j, d, chi, a, rp, zc, zp, discs, dr, dt, teeth, ux, uy, da):
+def pin_frame(j, d, chi, stage, unit):
     """Centre of pin j with all its errors in the frame of disc d (not turned) [mm], at crank angle chi."""
-    chi_d = chi + 2.0 * math.pi * d / discs
+    zc, zp = stage.zc, stage.zp
+    chi_d = chi + 2.0 * math.pi * d / stage.discs
     psi = 2.0 * math.pi * j / zp
     k = int(math.floor(j * zc / zp + chi_d / (2.0 * math.pi) + 0.5)) % zc
-    return pin_in_disc(math.cos(psi), math.sin(psi), math.cos(chi_d), math.sin(chi_d), math.cos(chi_d / zc),
-                       math.sin(chi_d / zc), dr[j], dt[j], teeth[d, k], a, rp, ux[d], uy[d], da[d])
+    frame = DiscFrame(math.cos(chi_d), math.sin(chi_d), math.cos(chi_d / zc), math.sin(chi_d / zc),
+                      unit.runout_along_um[d], unit.runout_across_um[d], unit.eccentricity_error_um[d])
+    return pin_in_disc(math.cos(psi), math.sin(psi), unit.pin_radial_um[j], unit.pin_tangential_um[j],
+                       unit.tooth_pitch_um[d, k], frame, stage.a_mm, stage.rp_mm)
 
 
 @njit(nogil=True, cache=True)
@@ -313,13 +348,14 @@ def _contact_rotation(c0, p1, p2, dt_mm, start, sgn):
 
 
 @njit(nogil=True, cache=True, inline="always")
-def _contact_rotation_bound(c0, p1, p2, dt_mm, side, cs, ss, sgn):
+def _contact_rotation_bound(c0, p1, p2, dt_mm, side, turn):
     """A lower bound [rad] of _contact_rotation(c0, p1, p2, dt_mm, start, sgn), without its
-    trigonometry (cs, ss: cos and sin of start; side: the pin's SIDE). h(beta) = SIDE (D^2(beta) -
+    trigonometry (``turn``: start, its cos and sin, sgn; side: the pin's SIDE). h(beta) = SIDE (D^2(beta) -
     dt^2) has the sign of the gap, and |h''| = |2 (p1 cos beta + p2 sin beta)| <= 2 r with r = |(p1,
     p2)|, so h(start + sgn x) >= H - S x - r x^2, H = h(start), S = -sgn h'(start) (Taylor); the
     positive root of the right side, 2 H / (S + sqrt(S^2 + 4 r H)), comes no later than the contact.
     0 when the pin is not free at start (H <= 0)."""
+    cs, ss, sgn = turn.cos_beta, turn.sin_beta, turn.sign
     h = side * (c0 - dt_mm * dt_mm - 2.0 * (p1 * cs + p2 * ss))
     if h <= 0.0:
         return 0.0
@@ -328,8 +364,11 @@ def _contact_rotation_bound(c0, p1, p2, dt_mm, side, cs, ss, sgn):
 
 
 @njit(nogil=True, cache=True)
-def _linear_maxmin(gap, lever, lo, hi, discs, zp):
-    """The rotation maximising min_j (gap_j - lever_j beta) (active-set iteration on the lines)."""
+def _linear_maxmin(gaps, lo, hi):
+    """The rotation maximising min_j (gap_j - lever_j beta) of PinGaps ``gaps`` (active-set
+    iteration on the lines)."""
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = gap.shape
     beta = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
     for _ in range(50):
         fall, rise = np.inf, np.inf
@@ -363,32 +402,38 @@ def _circle_terms(ox, oy, eux, euy, qx, qy, md_d):
 
 
 @njit(nogil=True, cache=True, inline="always")
-def _screened_contact(coef, d, j, qx, qy, tgt, md_d, est, first_lin, first, bc, cbc, sbc, sgn):
-    """Contact rotation [rad] of pin j of disc d on its osculating circle from bc on side sgn
-    (_contact_rotation), or inf when screened out: its linear estimate est is beyond 3 first_lin
-    (unless on a tightly bent stretch of C), it never closes (tgt <= 0), or its lower bound
-    (_contact_rotation_bound; cbc, sbc: cos and sin of bc) is beyond the band of ``first``."""
+def _screened_contact(coef, work, md_d, d, j, first_lin, first, turn):
+    """Contact rotation [rad] of pin j of disc d on its osculating circle from ``turn``'s start in
+    its direction (_contact_rotation), or inf when screened out: its linear estimate
+    (work.estimate_rad) is beyond 3 first_lin (unless on a tightly bent stretch of C), it never
+    closes (closing distance <= 0), or its lower bound (_contact_rotation_bound) is beyond the band
+    of ``first``. md_d: its disc's moving-distance modification [um]."""
     rho_c = coef[RHO, d, j]
+    est, tgt = work.estimate_rad[d, j], work.closing_distance_mm[d, j]
     if (est > 3.0 * first_lin and rho_c >= RHO_TIGHT_MM) or tgt <= 0.0:
         return np.inf
-    c0, p1, p2 = _circle_terms(coef[OX, d, j], coef[OY, d, j], coef[EUX, d, j], coef[EUY, d, j], qx, qy, md_d)
+    c0, p1, p2 = _circle_terms(coef[OX, d, j], coef[OY, d, j], coef[EUX, d, j], coef[EUY, d, j], work.pin_x_mm[d, j],
+                               work.pin_y_mm[d, j], md_d)
     band = BAND_WIDE if rho_c < RHO_TIGHT_MM else BAND_NARROW
-    if _contact_rotation_bound(c0, p1, p2, tgt, coef[SIDE, d, j], cbc, sbc, sgn) > first * (1.0 + band):
+    if _contact_rotation_bound(c0, p1, p2, tgt, coef[SIDE, d, j], turn) > first * (1.0 + band):
         return np.inf
-    return _contact_rotation(c0, p1, p2, tgt, bc, sgn)
+    return _contact_rotation(c0, p1, p2, tgt, turn.beta_rad, turn.sign)
 
 
 @njit(nogil=True, cache=True)
-def _lowest_gaps(coef, work, md, discs, zp, beta):
+def _lowest_gaps(coef, work, md, beta):
     """(value, lever) of the lowest falling gap and of the lowest rising gap at rotation beta [um,
     um/rad], every gap on its osculating circle (see stage_play; work: stage_work as unit_gaps
     left it). Every pin's gap on its circle,
         gap_j = SIDE ((RHO - tgt_j) + (D_j(beta) - RHO)) 1e3,  lever_j = -d gap_j / d beta,
-    in one pass per disc that the compiler runs four pins at a time (into work[4], work[5]), then
-    the lowest of each side in a second pass."""
+    in one pass per disc that the compiler runs four pins at a time (into work.value_um and
+    work.lever_um_per_rad), then the lowest of each side in a second pass. md: the discs'
+    moving-distance modifications [um]."""
+    discs, zp = work.value_um.shape
     cb, sb = math.cos(beta), math.sin(beta)
     for d in range(discs):
-        qx, qy, tgt, val, slope = work[0, d], work[1, d], work[3, d], work[4, d], work[5, d]
+        qx, qy, tgt = work.pin_x_mm[d], work.pin_y_mm[d], work.closing_distance_mm[d]
+        val, slope = work.value_um[d], work.lever_um_per_rad[d]
         ox_, oy_, eux, euy = coef[OX, d], coef[OY, d], coef[EUX, d], coef[EUY, d]
         side, rho = coef[SIDE, d], coef[RHO, d]
         mdd = md[d]
@@ -399,7 +444,7 @@ def _lowest_gaps(coef, work, md, discs, zp, beta):
             slope[j] = -side[j] * 1e3 * (p1 * sb - p2 * cb) / dist
     fall, rise, lf, lr = np.inf, np.inf, 0.0, 0.0
     for d in range(discs):
-        val, slope = work[4, d], work[5, d]
+        val, slope = work.value_um[d], work.lever_um_per_rad[d]
         for j in range(zp):
             v, lv = val[j], slope[j]
             if lv > 0.0:
@@ -411,7 +456,7 @@ def _lowest_gaps(coef, work, md, discs, zp, beta):
 
 
 @njit(nogil=True, cache=True)
-def _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi):
+def _max_min_gap(coef, work, md, gaps, lo, hi):
     """(max over beta of min_j gap_j(beta) [um], the beta [rad]) on the osculating circles
     (stage_play): negative, the unit's preload.
 
@@ -423,12 +468,12 @@ def _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi):
     gap's at the left end (exact when the gaps are straight), or by bisection when that too falls
     outside. It stops when the two lowest gaps agree to PRELOAD_STEP_UM, or when those tangents
     promise less than that above the best value found (the max is a single pin's peak)."""
-    beta = _linear_maxmin(gap, lever, lo, hi, discs, zp)
+    beta = _linear_maxmin(gaps, lo, hi)
     left, right = -np.inf, np.inf
     fl_v, fl_l, rl_v, rl_l = 0.0, 0.0, 0.0, 0.0  # the right end's falling tangent, the left end's rising one
     best, best_beta = -np.inf, beta
     for _ in range(80):
-        fall, lf, rise, lr = _lowest_gaps(coef, work, md, discs, zp, beta)
+        fall, lf, rise, lr = _lowest_gaps(coef, work, md, beta)
         m = min(fall, rise)
         if m > best:
             best, best_beta = m, beta
@@ -454,10 +499,12 @@ def _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi):
 
 
 @njit(nogil=True, cache=True, inline="always")
-def free_interval_bounds(gap, lever, discs, zp, azc_um):
-    """(lo, hi, flat) of linearised gaps gap_j - lever_j beta [um, um/rad] (discs, z_p): the free
+def free_interval_bounds(gaps, azc_um):
+    """(lo, hi, flat) of PinGaps, linearised gaps gap_j - lever_j beta [um, um/rad]: the free
     interval lo <= beta <= hi [rad] that every pin with a lever allows, and the smallest gap of a
     pin without one (|lever| <= 1e-9 a z_c, azc_um [um]) [um]."""
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = gap.shape
     hi = np.inf
     lo = -np.inf
     flat = np.inf
@@ -475,29 +522,34 @@ def free_interval_bounds(gap, lever, discs, zp, azc_um):
 
 
 @njit(nogil=True, cache=True)
-def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work):
+def unit_gaps(coef, stage, unit, gaps, work):
     """Every pin's gap [um] and lever [um/rad] at beta = 0 on its osculating circle (see stage_play)
-    into gap/lever (discs, z_p); work[0], work[1] receive the pin centres in the disc frame, work[3]
-    the distance from the circle's centre at which each gap closes (work[2]: scratch). Returns (lo,
-    hi, flat): the linearised free interval of beta [rad] and the smallest gap of a pin without a
-    lever [um].
+    of the unit whose UnitErrors are ``unit`` into ``gaps`` (PinGaps); ``work`` (StageWork)
+    receives the pin centres in the disc frame and the distance from the circle's centre at which
+    each gap closes. Returns (lo, hi, flat): the linearised free interval of beta [rad] and the
+    smallest gap of a pin without a lever [um].
 
     The pins of a disc are one pass that the compiler runs four at a time (SIMD): each pin's tooth
     pitch error is gathered first (an indexed load stops the compiler from vectorising a loop), and
     the free interval is reduced in a second pass."""
-    for d in range(discs):
-        qx_, qy_, tooth_err, tgt, gap_d, lever_d = work[0, d], work[1, d], work[2, d], work[3, d], gap[d], lever[d]
-        tooth, teeth_d = coef[TOOTH, d], teeth[d]
+    a, rp, zp = stage.a_mm, stage.rp_mm, stage.zp
+    dr, dt, rho, cl = unit.pin_radial_um, unit.pin_tangential_um, unit.pin_radius_um, unit.pin_clearance_um
+    for d in range(stage.discs):
+        qx_, qy_, tooth_err, tgt = work.pin_x_mm[d], work.pin_y_mm[d], work.pin_tooth_pitch_um[d], \
+            work.closing_distance_mm[d]
+        gap_d, lever_d = gaps.gap_um[d], gaps.lever_um_per_rad[d]
+        tooth, teeth_d = coef[TOOTH, d], unit.tooth_pitch_um[d]
         for j in range(zp):
             tooth_err[j] = teeth_d[int(tooth[j])]
-        cpsi, spsi, ex, ey, cang, sang = coef[CPSI, d], coef[SPSI, d], coef[CCHI, d], coef[SCHI, d], coef[CANG, d], \
-            coef[SANG, d]
+        cpsi, spsi = coef[CPSI, d], coef[SPSI, d]
+        # the disc's crank angle and turn are the same at every pin (mesh_table)
+        frame = DiscFrame(coef[CCHI, d, 0], coef[SCHI, d, 0], coef[CANG, d, 0], coef[SANG, d, 0],
+                          unit.runout_along_um[d], unit.runout_across_um[d], unit.eccentricity_error_um[d])
         ox_, oy_, eux, euy, side, rho_c = coef[OX, d], coef[OY, d], coef[EUX, d], coef[EUY, d], coef[SIDE, d], \
             coef[RHO, d]
-        uxd, uyd, dad, eqd, mdd = ux[d], uy[d], da[d], eq[d], md[d]
+        eqd, mdd = unit.equidistance_um[d], unit.moving_distance_um[d]
         for j in range(zp):
-            qx, qy = pin_in_disc(cpsi[j], spsi[j], ex[j], ey[j], cang[j], sang[j], dr[j], dt[j], tooth_err[j], a, rp,
-                                 uxd, uyd, dad)
+            qx, qy = pin_in_disc(cpsi[j], spsi[j], dr[j], dt[j], tooth_err[j], frame, a, rp)
             qx_[j] = qx
             qy_[j] = qy
             ox = ox_[j] + mdd * 1e-3 * eux[j]
@@ -507,64 +559,60 @@ def unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux
             gap_d[j] = base + side[j] * (dist - rho_c[j]) * 1e3
             lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
             tgt[j] = rho_c[j] - side[j] * base * 1e-3  # the distance D at which the gap is 0
-    return free_interval_bounds(gap, lever, discs, zp, azc_um)
+    return free_interval_bounds(gaps, stage.pitch_radius_um)
 
 
 @njit_borrowing(nogil=True, cache=True)
-def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever, work,
-               out, play=True):
-    """Play of the cycloid stage of one unit; out = [play_ccw, play_cw, preload_um, pin_ccw, disc_ccw,
-    pin_cw, disc_cw] (plays [rad] from the assembled position; NaN and pin -1 when preloaded).
+def stage_play(coef, stage, unit, gaps, work, play=True):
+    """Play of the cycloid stage of one unit (its UnitErrors ``unit``; StageGeometry ``stage``;
+    ``coef``: the mesh_table at its crank angle) as a StagePlay: plays [rad] from the assembled
+    position, the pins that stop them; NaN and pins -1 when preloaded, with the preload [um].
 
     Each pin's gap as the disc turns by beta is its distance from the osculating circle of the
     pin-centre curve at that pin (mesh_table), with every error placed exactly (pin_in_disc):
         gap_j(beta) = eq + SIDE (D_j(beta) - RHO) 1e3 - rho_j + cl_j / 2,
         D_j(beta) = |q_j - R(beta) (O_j + dr_p e_u)|,
     exact to second order in the displacements (the curve's own curvature included), which the
-    near-tip pins need: C bends there with radii down to 0.2 mm. gap/lever (discs, z_p) receive
-    gap_j(0) [um] and lever_j = -d gap_j / d beta (0) [um/rad] (> 0 stops a counter-clockwise
-    rotation), the elastic model's inputs; ``work`` (stage_work) is scratch space. The discs
-    are tied by the cranks (one beta). The unit is preloaded when the linearised gaps admit no
-    beta that frees every pin, or when, at the middle of the interval they admit, a pin's
-    osculating gap still interferes (a pin facing a tooth tip, where the gap bends back within
-    the interval); its preload [um] is then -max_beta min_j gap_j(beta), and a unit whose
+    near-tip pins need: C bends there with radii down to 0.2 mm. ``gaps`` (PinGaps, (discs, z_p))
+    receive gap_j(0) [um] and lever_j = -d gap_j / d beta (0) [um/rad] (> 0 stops a
+    counter-clockwise rotation), the elastic model's inputs; ``work`` (stage_work) is scratch
+    space. The discs are tied by the cranks (one beta). The unit is preloaded when the linearised
+    gaps admit no beta that frees every pin, or when, at the middle of the interval they admit, a
+    pin's osculating gap still interferes (a pin facing a tooth tip, where the gap bends back
+    within the interval); its preload [um] is then -max_beta min_j gap_j(beta), and a unit whose
     max-min gap turns out positive is free after all, centred on that beta.
     Otherwise, from the middle of the free interval, each side's first contact is the nearest
     root of the pins' gaps; the pins within a band of it (BAND_NARROW, BAND_WIDE near the tips)
     are checked on the exact curve (turned_gap, from the centres unit_gaps placed) and the first of
     them solved exactly, then the pins within the band of that refined contact are checked again
     (the osculating estimate can be off by more than the band near a tip). ``play`` False: a free
-    unit stops there (out[0:2] = 0, pins -1): the elastic model reads the gaps, the levers and the
+    unit stops there (plays 0, pins -1): the elastic model reads the gaps, the levers and the
     preload only.
     """
-    qx_, qy_, est, tgt = work[0], work[1], work[2], work[3]
-    lo, hi, flat = unit_gaps(coef, a, rp, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, gap, lever,
-                             work)
-    for i in range(3, 7):
-        out[i] = -1
+    a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
+    md = unit.moving_distance_um
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    qx_, qy_, est = work.pin_x_mm, work.pin_y_mm, work.estimate_rad
+    lo, hi, flat = unit_gaps(coef, stage, unit, gaps, work)
     preloaded = hi < lo or flat < 0.0
     bc = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
     if not preloaded:
         # the linear screen can miss a pin facing a tooth tip: its gap bends back (RHO ~ 0.1 mm) and
         # may interfere at every rotation; on the osculating circles every pin must be free at bc
-        fall, _, rise, _ = _lowest_gaps(coef, work, md, discs, zp, bc)
+        fall, _, rise, _ = _lowest_gaps(coef, work, md, bc)
         preloaded = min(fall, rise) < -PRELOAD_TOL_UM
     if preloaded:  # the deepest interference at the best rotation (or, if it is positive, a free unit after all)
-        m, beta = _max_min_gap(coef, work, md, discs, zp, gap, lever, lo, hi)
+        m, beta = _max_min_gap(coef, work, md, gaps, lo, hi)
         if m < PRELOAD_TOL_UM:
-            out[0] = np.nan
-            out[1] = np.nan
-            out[2] = max(-m, 0.0)
-            return
+            return StagePlay(np.nan, np.nan, max(-m, 0.0), -1, -1, -1, -1)
         bc = beta
-    out[2] = 0.0
     if not play:
-        out[0] = 0.0
-        out[1] = 0.0
-        return
+        return StagePlay(0.0, 0.0, 0.0, -1, -1, -1, -1)
     cbc, sbc = math.cos(bc), math.sin(bc)
+    play_ccw, play_cw, pin_ccw, disc_ccw, pin_cw, disc_cw = 0.0, 0.0, -1, -1, -1, -1
     for side in range(2):  # 0: counter-clockwise (beta > 0), 1: clockwise
         sgn = 1.0 if side == 0 else -1.0
+        turn = Turn(bc, cbc, sbc, sgn)
         first_lin = np.inf  # the linear estimate screens out the pins far from contact
         dl, jl = -1, -1
         for d in range(discs):
@@ -577,16 +625,14 @@ def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, m
         # estimate puts first, then each pin whose lower bound is within the band of the first so far
         lead = np.inf
         if dl >= 0:
-            lead = _screened_contact(coef, dl, jl, qx_[dl, jl], qy_[dl, jl], tgt[dl, jl], md[dl], est[dl, jl],
-                                     first_lin, lead, bc, cbc, sbc, sgn)
+            lead = _screened_contact(coef, work, md[dl], dl, jl, first_lin, lead, turn)
         first = lead
         for d in range(discs):
             for j in range(zp):
                 if d == dl and j == jl:
                     est[d, j] = lead
                     continue
-                est[d, j] = _screened_contact(coef, d, j, qx_[d, j], qy_[d, j], tgt[d, j], md[d], est[d, j],
-                                              first_lin, first, bc, cbc, sbc, sgn)
+                est[d, j] = _screened_contact(coef, work, md[d], d, j, first_lin, first, turn)
                 first = min(first, est[d, j])
         # the candidates on the exact curve: one Newton step each from their estimate; a second pass
         # takes the pins within the band of the refined first contact that the estimate's band left out
@@ -604,7 +650,7 @@ def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, m
                     if x > ref * (1.0 + band) or (rnd == 1 and x <= first * (1.0 + band)):
                         continue
                     px, py = qx_[d, j], qy_[d, j]  # its centre as unit_gaps placed it (pin_frame's, from the table)
-                    base = eq[d] - rho[j] + 0.5 * cl[j]
+                    base = unit.equidistance_um[d] - unit.pin_radius_um[j] + 0.5 * unit.pin_clearance_um[j]
                     f1, s1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[T0, d, j])
                     if s1 != 0.0:
                         x -= f1 / (sgn * s1)
@@ -619,37 +665,28 @@ def stage_play(coef, a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, m
             if abs(f1) < 1e-9 or s1 == 0.0:
                 break
             best -= f1 / (sgn * s1)
-        out[3 + 2 * side] = bj
-        out[4 + 2 * side] = bd
-        out[side] = best + sgn * bc  # rotation from beta = 0
-    return
+        if side == 0:  # rotations from beta = 0
+            play_ccw, pin_ccw, disc_ccw = best + sgn * bc, bj, bd
+        else:
+            play_cw, pin_cw, disc_cw = best + sgn * bc, bj, bd
+    return StagePlay(play_ccw, play_cw, 0.0, pin_ccw, disc_ccw, pin_cw, disc_cw)
 
 
 @njit(nogil=True, cache=True)
-def exact_disc_gaps(d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, out):
+def exact_disc_gaps(d, beta, chi, stage, unit, out):
     """exact_gap_um of every pin of disc d [um] into out (z_p)."""
-    chi_d = chi + 2.0 * math.pi * d / discs
+    zp = stage.zp
+    chi_d = chi + 2.0 * math.pi * d / stage.discs
     for j in range(zp):
         t0 = chi_d - 2.0 * math.pi * j / zp + 2.0 * math.pi * j
-        out[j] = exact_gap_um(j, d, beta, chi, a, rp, zc, zp, discs, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, t0)
-
-
-def unit_arrays(r: Realization) -> tuple:
-    """The error arrays of a Realization in the order the kernels take them."""
-    return (r.pin_radial_um, r.pin_tangential_um, r.pin_radius_um, r.pin_clearance_um, r.tooth_pitch_um,
-            r.equidistance_um, r.moving_distance_um, np.ascontiguousarray(r.runout_um[:, 0]),
-            np.ascontiguousarray(r.runout_um[:, 1]), r.eccentricity_error_um)
+        out[j] = exact_gap_um(j, d, beta, chi, stage, unit, t0)
 
 
 def kernel_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     """The Monte-Carlo kernel's play of one unit at its exact crank angle (no crank-angle steps)."""
     coef = mesh_table(g, np.array([r.chi_rad]))[0]
-    out = np.empty(7)
-    gap, lever = np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp))
-    stage_play(coef, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
-               *(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r)), gap, lever,
-               stage_work(g.discs, g.zp), out)
-    return MeshPlay((), float(out[2]), g.pitch_radius_um, float(out[0]), float(out[1]))
+    p = stage_play(coef, g.stage_geometry, unit_errors(r), pin_gaps(g.discs, g.zp), stage_work(g.discs, g.zp))
+    return MeshPlay((), float(p.preload_um), g.pitch_radius_um, float(p.play_ccw_rad), float(p.play_cw_rad))
 
 
 # --- exact play ------------------------------------------------------------------------------
@@ -739,11 +776,11 @@ def exact_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     The discs turn together: the stage is preloaded when max_beta min_d m_d(beta) < 0, and
     that deficit is its preload [um].
     """
-    arrays = tuple(np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r))
+    stage, unit = g.stage_geometry, unit_errors(r)
     buf = np.empty(g.zp)
 
     def gaps(d: int, beta: float) -> np.ndarray:  # exact_gaps_um, compiled
-        exact_disc_gaps(d, beta, r.chi_rad, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, *arrays, buf)
+        exact_disc_gaps(d, beta, r.chi_rad, stage, unit, buf)
         return buf.copy()
 
     lin = [linear_gaps_um(g, r, d) for d in range(g.discs)]

@@ -38,19 +38,75 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH,
-                                      Realization, _linear_maxmin, free_interval_bounds, mesh_table, stage_play,
-                                      stage_work, unit_arrays)
+from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH, PinGaps,
+                                      StageWork, _linear_maxmin, free_interval_bounds, mesh_table, stage_play,
+                                      stage_work)
+from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
 
 ARCSEC_PER_RAD = 648000.0 / math.pi
 DEFAULT_POSITIONS = 1024  # output positions per revolution of one unit's curve: orders up to 512
+# output positions per mesh table at most: a revolution of more positions is solved a table at a time
+# (a table holds N_COEF values per pin and disc: 2048 positions of rv80e are 18 MB, and building it
+# takes about twice that; 65 536 positions in one table took 2 GB)
+TABLE_POSITIONS = 2048
+
+
+class Kinematics(NamedTuple):
+    """What the kinematic model needs of a design besides the contact geometry."""
+
+    ratio: float
+    base_radius_mm: float  # r_b2 of the planet gears
+    crank_radius_mm: float  # R_c, the circle of crank axes
+    planets: int
+
+
+class PositionTable(NamedTuple):
+    """The output positions of one revolution (output_positions) and the contact model's
+    mesh_table at each (``position_table``)."""
+
+    theta_rad: np.ndarray  # (N,) output angle
+    chi_rad: np.ndarray  # (N,) crank angle of disc 0
+    coef: np.ndarray  # (N, N_COEF, discs, z_p)
+
+
+class HousingPins(NamedTuple):
+    """What of a unit's pins does not change as the output turns (unit_pins), (z_p) each."""
+
+    x_mm: np.ndarray  # each pin's centre in the housing frame
+    y_mm: np.ndarray
+    base_um: np.ndarray  # its gap's constant part -rho + cl / 2
+
+
+class CurveScratch(NamedTuple):
+    """te_curve's scratch (curve_scratch): the unit's disc errors placed at one output position,
+    the cranks' angle errors, the pins' gaps and the contact model's work, the housing's pins, the
+    discs' placement on the cranks (crank_fit)."""
+
+    tooth_pitch_um: np.ndarray  # (discs, z_c)
+    runout_along_um: np.ndarray  # (discs)
+    runout_across_um: np.ndarray  # (discs)
+    crank_angle_rad: np.ndarray  # (planets)
+    gaps: PinGaps
+    work: StageWork
+    pins: HousingPins
+    shift_um: np.ndarray  # (discs, 2)
+    turn_rad: np.ndarray  # (discs)
+
+
+class FlankCurve(NamedTuple):
+    """Both flanks' output positions [rad] at every output position and the preload [um] (te_curve)."""
+
+    ccw_rad: np.ndarray
+    cw_rad: np.ndarray
+    preload_um: np.ndarray
 
 
 def output_positions(g: ContactGeometry, positions: int, chi0_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -61,13 +117,14 @@ def output_positions(g: ContactGeometry, positions: int, chi0_rad: float = 0.0) 
 
 
 @njit(nogil=True, cache=True)
-def crank_fit(hole_disc_um, hole_carrier_um, crank_radius_mm, planets, discs, shift_um, turn_rad):
+def crank_fit(hole_disc_um, hole_carrier_um, crank_radius_mm, shift_um, turn_rad):
     """Rigid placement of each disc on the P eccentrics (module docstring): crank-hole position
     errors of the discs (discs, P, 2) and of the carrier (P, 2) [um, carrier frame] -> per disc the
     translation (shift_um (discs, 2) [um]) and the rotation against the carrier (turn_rad (discs,)).
     Hole k nominally at R_c (cos 2 pi k / P, sin 2 pi k / P). The least-squares fit of a rigid
     motion to P point misfits m_k: translation = mean m_k, rotation = sum H_k x (m_k - mean) /
     sum |H_k|^2 (small angles)."""
+    discs, planets = hole_disc_um.shape[0], hole_disc_um.shape[1]
     for d in range(discs):
         mx, my = 0.0, 0.0
         for k in range(planets):
@@ -88,16 +145,18 @@ def crank_fit(hole_disc_um, hole_carrier_um, crank_radius_mm, planets, discs, sh
 
 
 @njit(nogil=True, cache=True)
-def crank_angle_errors(theta, centre_ecc_um, planet_ecc_um, ratio, zp, base_radius_mm, out):
+def crank_angle_errors(theta, centre_ecc_um, planet_ecc_um, kin, zp, out):
     """Angle error of each crank d chi_k [rad] at output angle theta from the involute stage: the
     centre gear (turning (i - 1) theta against the carrier) and planet k (turning -z_p theta) with
     eccentricity vectors e [um] in their own frames; each moves the mesh of planet k (at 2 pi k / P
     in the carrier) along its tangent by e . t, t the tangent at the mesh seen from the gear, and
     turns the planet by that over its base radius r_b2 [mm] (the centre gear is the reference:
     the input's angle is read on it). Transmission error of an eccentric gear pair: Smith, Gear
-    Noise and Vibration (2003), ch. 2 (once-per-rev line of amplitude e / r_b)."""
+    Noise and Vibration (2003), ch. 2 (once-per-rev line of amplitude e / r_b). ``kin``: the design's
+    Kinematics (ratio i, r_b2)."""
     planets = out.size
-    p1 = (ratio - 1.0) * theta
+    base_radius_mm = kin.base_radius_mm
+    p1 = (kin.ratio - 1.0) * theta
     p2 = -zp * theta
     for k in range(planets):
         gk = 2.0 * math.pi * k / planets
@@ -109,9 +168,12 @@ def crank_angle_errors(theta, centre_ecc_um, planet_ecc_um, ratio, zp, base_radi
 
 
 @njit(nogil=True, cache=True)
-def unit_pins(coef, rp, dr, dt, rho, cl, cx, cy, base):
-    """What of a unit's pins does not change as the output turns: each pin centre in the housing
-    frame (cx, cy) [mm] and its gap's constant part -rho + cl / 2 [um] (``pin_in_disc``, hoisted)."""
+def unit_pins(coef, rp, unit, pins):
+    """What of a unit's pins does not change as the output turns, into ``pins`` (HousingPins):
+    each pin centre in the housing frame [mm] and its gap's constant part -rho + cl / 2 [um]
+    (``pin_in_disc``, hoisted)."""
+    dr, dt, rho, cl = unit.pin_radial_um, unit.pin_tangential_um, unit.pin_radius_um, unit.pin_clearance_um
+    cx, cy, base = pins.x_mm, pins.y_mm, pins.base_um
     for j in range(cx.size):
         rad = rp + dr[j] * 1e-3
         cpsi, spsi = coef[CPSI, 0, j], coef[SPSI, 0, j]
@@ -121,24 +183,28 @@ def unit_pins(coef, rp, dr, dt, rho, cl, cx, cy, base):
 
 
 @njit(nogil=True, cache=True)
-def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, ux, uy, da, gap, lever, scratch):
+def free_interval(coef, stage, pins, unit, gaps, scratch):
     """``models.contact.unit_gaps`` without the pin centres it keeps for the exact solve, the pins'
-    constant part hoisted (``unit_pins``): every pin's gap [um] and lever [um/rad] at beta = 0 into
-    gap/lever; returns (lo, hi, flat) as unit_gaps does. The production run's fast path. As in
-    unit_gaps, each disc's pins are one pass the compiler runs four at a time, their tooth pitch
-    errors gathered first into ``scratch`` (z_p)."""
-    for d in range(discs):
+    constant part hoisted (``pins``, HousingPins): every pin's gap [um] and lever [um/rad] at
+    beta = 0 into ``gaps``; returns (lo, hi, flat) as unit_gaps does. The production run's fast
+    path. ``unit``: the UnitErrors with the disc errors placed at this position. As in unit_gaps,
+    each disc's pins are one pass the compiler runs four at a time, their tooth pitch errors
+    gathered first into ``scratch`` (z_p)."""
+    a, rp, zp = stage.a_mm, stage.rp_mm, stage.zp
+    cx, cy, base = pins.x_mm, pins.y_mm, pins.base_um
+    ux, uy, da, md = unit.runout_along_um, unit.runout_across_um, unit.eccentricity_error_um, unit.moving_distance_um
+    for d in range(stage.discs):
         ex, ey, cang, sang = coef[CCHI, d, 0], coef[SCHI, d, 0], coef[CANG, d, 0], coef[SANG, d, 0]
         off = a + da[d] * 1e-3
         dx = off * ex + (ux[d] * ex - uy[d] * ey) * 1e-3  # the disc centre and its profile offset [mm]
         dy = off * ey + (ux[d] * ey + uy[d] * ex) * 1e-3
         mdd = md[d] * 1e-3
-        tooth, teeth_d = coef[TOOTH, d], teeth[d]
+        tooth, teeth_d = coef[TOOTH, d], unit.tooth_pitch_um[d]
         for j in range(zp):
             scratch[j] = teeth_d[int(tooth[j])]
         ox_, oy_, eux, euy, side, rho_c = coef[OX, d], coef[OY, d], coef[EUX, d], coef[EUY, d], coef[SIDE, d], \
             coef[RHO, d]
-        eqd, gap_d, lever_d = eq[d], gap[d], lever[d]
+        eqd, gap_d, lever_d = unit.equidistance_um[d], gaps.gap_um[d], gaps.lever_um_per_rad[d]
         for j in range(zp):
             px = cx[j] - dx
             py = cy[j] - dy
@@ -152,26 +218,34 @@ def free_interval(coef, a, rp, zp, discs, azc_um, cx, cy, base, teeth, eq, md, u
             dist = math.sqrt((qx - ox) * (qx - ox) + (qy - oy) * (qy - oy))
             gap_d[j] = eqd + base[j] + side[j] * (dist - rho_c[j]) * 1e3
             lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
-    return free_interval_bounds(gap, lever, discs, zp, azc_um)
+    return free_interval_bounds(gaps, stage.pitch_radius_um)
 
 
 @njit(nogil=True, cache=True)
-def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base_radius_mm, crank_radius_mm,
-             dr, dt, rho, cl, teeth0, eq, md, ux0, uy0, da, centre_ecc_um, planet_ecc_um, shift_um, turn_rad,
-             teeth, ux, uy, dchi, gap, lever, work, res, te_ccw, te_cw, preload, exact):
-    """Both flanks' output positions [rad] at every output position (module docstring) into te_ccw,
-    te_cw (N,) and the preload [um] (0 where the stage is free). ``coef`` is the contact model's
-    mesh_table at ``chis``; shift_um/turn_rad come from crank_fit; teeth, ux, uy, dchi, gap, lever,
-    work, res are scratch. Where the stage is preloaded both flanks sit at the rotation that
+def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
+    """Both flanks' output positions [rad] at every output position of ``table`` (PositionTable: the
+    contact model's mesh_table at each) and the preload [um] (0 where the stage is free) into
+    ``curve`` (FlankCurve) for the unit whose UnitErrors are ``unit``, its reference position at
+    crank angle chi0 (module docstring). ``stage``: StageGeometry; ``kin``: the design's Kinematics;
+    ``scratch``: curve_scratch. Where the stage is preloaded both flanks sit at the rotation that
     balances the deepest interferences (its linearisation) and the lost motion is 0. ``exact``:
     each first contact solved on the exact curve (stage_play); else linearised at the assembled
     position (unit_gaps' free interval: the production run's fast path, error bounded in the tests)."""
+    a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
+    crank_radius_mm = kin.crank_radius_mm
+    coef, chis, thetas = table.coef, table.chi_rad, table.theta_rad
+    dchi, teeth, ux, uy = scratch.crank_angle_rad, scratch.tooth_pitch_um, scratch.runout_along_um, \
+        scratch.runout_across_um
+    shift_um, turn_rad = scratch.shift_um, scratch.turn_rad
+    teeth0, ux0, uy0 = unit.tooth_pitch_um, unit.runout_along_um, unit.runout_across_um
     planets = dchi.size
-    pcx, pcy, pbase = np.empty(zp), np.empty(zp), np.empty(zp)
-    unit_pins(coef[0], rp, dr, dt, rho, cl, pcx, pcy, pbase)
+    crank_fit(unit.disc_crank_hole_um, unit.carrier_crank_hole_um, crank_radius_mm, shift_um, turn_rad)
+    placed = with_disc_errors(unit, teeth, ux, uy)  # the disc errors as placed at each position, below
+    unit_pins(coef[0], rp, unit, scratch.pins)
+    gaps = scratch.gaps
     for n in range(chis.size):
         chi = chis[n]
-        crank_angle_errors(thetas[n], centre_ecc_um, planet_ecc_um, ratio, zp, base_radius_mm, dchi)
+        crank_angle_errors(thetas[n], unit.centre_gear_eccentricity_um, unit.planet_eccentricity_um, kin, zp, dchi)
         mean = 0.0
         for k in range(planets):
             mean += dchi[k]
@@ -189,69 +263,46 @@ def te_curve(coef, chis, thetas, chi0, a, rp, zc, zp, discs, azc_um, ratio, base
             for k in range(zc):
                 teeth[d, k] = teeth0[d, k] + turn * rp * 1e3
         if exact:
-            stage_play(coef[n], a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
-                       gap, lever, work, res)
+            play = stage_play(coef[n], stage, placed, gaps, scratch.work)
+            free, ccw, cw_, preload = not math.isnan(play.play_ccw_rad), play.play_ccw_rad, play.play_cw_rad, \
+                play.preload_um
         else:
-            lo, hi, flat = free_interval(coef[n], a, rp, zp, discs, azc_um, pcx, pcy, pbase, teeth, eq, md, ux, uy,
-                                         da, gap, lever, work[2, 0])
-            if hi < lo or flat < 0.0:
-                res[0] = np.nan
-                res[2] = 0.0
-            else:
-                res[0] = hi
-                res[1] = -lo
-        if math.isnan(res[0]):
-            b = _linear_maxmin(gap, lever, np.inf, np.inf, discs, zp)
-            te_ccw[n] = b
-            te_cw[n] = b
-            preload[n] = res[2]
+            lo, hi, flat = free_interval(coef[n], stage, scratch.pins, placed, gaps, scratch.work.pin_tooth_pitch_um[0])
+            free, ccw, cw_, preload = not (hi < lo or flat < 0.0), hi, -lo, 0.0
+        if not free:
+            b = _linear_maxmin(gaps, np.inf, np.inf)
+            curve.ccw_rad[n] = b
+            curve.cw_rad[n] = b
+            curve.preload_um[n] = preload
         else:
-            te_ccw[n] = res[0]
-            te_cw[n] = -res[1]
-            preload[n] = 0.0
+            curve.ccw_rad[n] = ccw
+            curve.cw_rad[n] = -cw_
+            curve.preload_um[n] = 0.0
 
 
 @njit(nogil=True, cache=True)
 def curve_scratch(zp, zc, discs, planets):
-    """Scratch arrays of te_curve: teeth, ux, uy, dchi, gap, lever, work, res."""
-    return (np.empty((discs, zc)), np.empty(discs), np.empty(discs), np.empty(planets), np.empty((discs, zp)),
-            np.empty((discs, zp)), stage_work(discs, zp), np.empty(7))
+    """Scratch of te_curve (CurveScratch)."""
+    return CurveScratch(np.empty((discs, zc)), np.empty(discs), np.empty(discs), np.empty(planets),
+                        PinGaps(np.empty((discs, zp)), np.empty((discs, zp))), stage_work(discs, zp),
+                        HousingPins(np.empty(zp), np.empty(zp), np.empty(zp)), np.empty((discs, 2)), np.empty(discs))
 
 
-def kinematic_arrays(r, discs: int, planets: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The kinematic errors of a Realization (zeros where None): centre-gear eccentricity (2,),
-    planet eccentricities (P, 2), disc crank holes (discs, P, 2), carrier crank holes (P, 2) [um]."""
-    def arr(v, shape):
-        return np.zeros(shape) if v is None else np.ascontiguousarray(np.broadcast_to(np.asarray(v, float), shape))
-    return (arr(r.centre_gear_eccentricity_um, (2,)), arr(r.planet_eccentricity_um, (planets, 2)),
-            arr(r.disc_crank_hole_um, (discs, planets, 2)), arr(r.carrier_crank_hole_um, (planets, 2)))
-
-
-def flank_positions(g: ContactGeometry, r, coef: np.ndarray, thetas: np.ndarray, chis: np.ndarray, ratio: float,
-                    base_radius_mm: float, crank_radius_mm: float, planets: int, exact: bool = True
-                    ) -> tuple[np.ndarray, ...]:
-    """(te_ccw, te_cw [rad], preload [um]) of one unit (a models.contact.Realization) at the output
-    positions (thetas, chis) of ``output_positions``; ``coef`` = mesh_table(g, chis)."""
-    centre, planet, hd, hc = kinematic_arrays(r, g.discs, planets)
-    shift, turn = np.empty((g.discs, 2)), np.empty(g.discs)
-    crank_fit(hd, hc, crank_radius_mm, planets, g.discs, shift, turn)
-    dr, dt, rho, cl, teeth, eq, md, ux, uy, da = (np.ascontiguousarray(x, dtype=float) for x in unit_arrays(r))
+def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, kin: Kinematics, exact: bool = True,
+                    coef: np.ndarray | None = None) -> FlankCurve:
+    """Both flanks' positions [rad] and the preload [um] of one unit (a Realization) at the output
+    positions (theta, chis) of ``output_positions``. ``coef``: the mesh_table there
+    (``position_table``'s); None: built TABLE_POSITIONS positions at a time (each position is solved
+    on its own: the same numbers, in bounded memory)."""
     n = chis.size
-    te_ccw, te_cw, preload = np.empty(n), np.empty(n), np.empty(n)
-    te_curve(coef, chis, thetas, float(r.chi_rad), g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
-             float(ratio), float(base_radius_mm), float(crank_radius_mm), dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
-             centre, planet, shift, turn, *curve_scratch(g.zp, g.zc, g.discs, planets), te_ccw, te_cw, preload, exact)
-    return te_ccw, te_cw, preload
-
-
-@dataclass(frozen=True)
-class Kinematics:
-    """What the kinematic model needs of a design besides the contact geometry."""
-
-    ratio: float
-    base_radius_mm: float  # r_b2 of the planet gears
-    crank_radius_mm: float  # R_c, the circle of crank axes
-    planets: int
+    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n))
+    stage, unit, scratch = g.stage_geometry, unit_errors(r, kin.planets), curve_scratch(g.zp, g.zc, g.discs, kin.planets)
+    step = TABLE_POSITIONS if coef is None else max(n, 1)
+    for start in range(0, n, step):
+        part = slice(start, start + step)
+        table = PositionTable(theta[part], chis[part], mesh_table(g, chis[part]) if coef is None else coef)
+        te_curve(stage, kin, table, unit, float(r.chi_rad), scratch, FlankCurve(*(x[part] for x in curve)), exact)
+    return curve
 
 
 def kinematics(problem: Problem) -> Kinematics:
@@ -269,11 +320,27 @@ def perfect_unit(problem: Problem, chi_rad: float = 0.0) -> Realization:
 
 
 @functools.lru_cache(maxsize=8)
-def position_table(g, positions: int, chi0_rad: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(theta, chi, mesh_table) of ``positions`` output positions from crank angle chi0 (built once
-    per geometry and start: the table is most of a single curve's cost). Shared: do not modify."""
+def position_table(g, positions: int, chi0_rad: float) -> PositionTable:
+    """The PositionTable of ``positions`` output positions from crank angle chi0 (built once per
+    geometry and start: the table is most of a single curve's cost). Shared: do not modify."""
     theta, chis = output_positions(g, positions, chi0_rad)
-    return theta, chis, mesh_table(g, chis)
+    return PositionTable(theta, chis, mesh_table(g, chis))
+
+
+def cached_table(g: ContactGeometry, positions: int, chi0_rad: float) -> PositionTable | None:
+    """``position_table`` up to TABLE_POSITIONS positions; None beyond (such a revolution is solved a
+    table at a time: flank_positions)."""
+    return position_table(g, positions, chi0_rad) if positions <= TABLE_POSITIONS else None
+
+
+def revolution_curve(g: ContactGeometry, r, positions: int, chi0_rad: float, kin: Kinematics, exact: bool,
+                     table: PositionTable | None) -> tuple[np.ndarray, FlankCurve]:
+    """(theta, FlankCurve) of unit ``r`` at ``positions`` output positions from chi0 (``table``:
+    their PositionTable, or None)."""
+    if table is None:
+        theta, chis = output_positions(g, positions, chi0_rad)
+        return theta, flank_positions(g, r, theta, chis, kin, exact)
+    return table.theta_rad, flank_positions(g, r, table.theta_rad, table.chi_rad, kin, exact, table.coef)
 
 
 @dataclass(frozen=True)
@@ -287,27 +354,23 @@ class Revolution:
 
 
 def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITIONS, exact: bool = True,
-               table: tuple | None = None) -> Revolution:
+               table: PositionTable | None = None) -> Revolution:
     """Both flanks' positions of unit ``r`` over one output revolution from its crank angle r.chi_rad
-    (models.kinematics). ``table``: (theta, chi, mesh_table) to reuse."""
+    (models.kinematics). ``table``: a PositionTable to reuse."""
     g = problem.cycloid
-    theta, chis, coef = table if table is not None else position_table(g, positions, float(r.chi_rad))
-    k = kinematics(problem)
-    ccw, cw, pre = flank_positions(g, r, coef, theta, chis, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets,
-                                   exact)
-    return Revolution(theta, ccw, cw, pre)
+    table = table if table is not None else cached_table(g, positions, float(r.chi_rad))
+    theta, curve = revolution_curve(g, r, positions, float(r.chi_rad), kinematics(problem), exact, table)
+    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um)
 
 
 @functools.lru_cache(maxsize=8)
 def _reference(g, kin: Kinematics, equidistance_um: float, moving_distance_um: float, clearance_um: float,
                chi0_rad: float, positions: int, exact: bool) -> Revolution:
     r = Realization.nominal(g, equidistance_um, moving_distance_um, clearance_um, chi0_rad)
-    theta, chis, coef = position_table(g, positions, chi0_rad)
-    ccw, cw, pre = flank_positions(g, r, coef, theta, chis, kin.ratio, kin.base_radius_mm, kin.crank_radius_mm,
-                                   kin.planets, exact)
-    for x in (ccw, cw, pre):
+    theta, curve = revolution_curve(g, r, positions, chi0_rad, kin, exact, cached_table(g, positions, chi0_rad))
+    for x in curve:
         x.flags.writeable = False
-    return Revolution(theta, ccw, cw, pre)
+    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um)
 
 
 def reference_revolution(problem: Problem, positions: int, chi0_rad: float = 0.0, exact: bool = True) -> Revolution:

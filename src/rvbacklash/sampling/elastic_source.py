@@ -2,13 +2,13 @@
 
 A block is two steps, kept apart on purpose:
 
-1. **drawing** the units as the contact model draws them (``contact_source.draw_unit``: the same
+1. **drawing** the units as the contact model draws them (``unit_draw.draw_unit``: the same
    per-factor streams, the same error model, the same numbers), each turned into its pin gaps and
    lever arms (discs x pins, ``models.contact.unit_gaps``), its crank angle, its involute-stage
    backlash and its crank-bearing clearance (``draw_units`` -> ``UnitBatch``), CHUNK units at a
    time;
 2. **evaluating** them: ``models.elastic.evaluate_units`` (numba, nogil) turns each unit into its
-   lost motion, backlash and torsional rigidity.
+   lost motion, backlash and torsional rigidity with the design's ``LoopDesign``.
 
 Outputs: lost_motion [arcmin], backlash [arcmin], rigidity [nm_per_arcmin] (a spec on it is a
 lower limit), and the contact model's preload [um] (NaN for a unit whose cycloid stage is free):
@@ -18,25 +18,26 @@ a spec on the lost motion alone would reward interference, which closes the play
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from rvbacklash._numba import njit
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
-from rvbacklash.models.contact import stage_play
-from rvbacklash.models.elastic import ElasticModel, elastic_model, evaluate_units, pin_law_table
+from rvbacklash.models.contact import PinGaps, stage_play, stage_work
+from rvbacklash.models.elastic import ElasticModel, LoopDesign, elastic_model, evaluate_units, loop_design, pin_law_table
+from rvbacklash.models.unit_errors import empty_unit
 from rvbacklash.problem import Problem
-from rvbacklash.sampling.contact_source import (BLOCK_UNITS, CRANK_STEPS, PRELOAD_OUTPUT, STAGE2_ORDER,
-                                                ContactBlockSource, block_streams, contact_source, draw_unit,
-                                                save_unit, save_width, unit_scratch, units_to_save)
+from rvbacklash.sampling.contact_source import (BLOCK_UNITS, CRANK_STEPS, PRELOAD_OUTPUT, ContactBlockSource,
+                                                SavedUnits, block_streams, contact_source, save_unit, saved_slice,
+                                                saved_units, units_to_save)
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators
+from rvbacklash.sampling.unit_draw import draw_scratch, draw_unit
 from rvbacklash.units import ARCMIN_PER_RAD
-
-IDX = {k: i for i, k in enumerate(FACTOR_KEYS)}
 
 
 def elastic_outputs(model: ElasticModel) -> tuple[Output, ...]:
@@ -55,9 +56,9 @@ def elastic_outputs(model: ElasticModel) -> tuple[Output, ...]:
 N_OUTPUTS = 4  # lost motion, backlash, rigidity, preload
 
 
-@dataclass(frozen=True)
-class UnitBatch:
-    """n units as the evaluation takes them (C-contiguous float arrays)."""
+class UnitBatch(NamedTuple):
+    """n units as the evaluation takes them (C-contiguous float arrays): an ``ElasticUnit`` batch
+    (models.elastic.evaluate_units reads these fields) and each unit's preload."""
 
     gap_um: np.ndarray  # (n, discs, z_p) free gap of each pin at zero rotation [um]
     lever_um_per_rad: np.ndarray  # (n, discs, z_p) signed lever about the disc centre [um/rad]
@@ -68,67 +69,65 @@ class UnitBatch:
 
     def take(self, index) -> "UnitBatch":
         """The units at ``index`` (an index array or a slice), as a batch of their own."""
-        return UnitBatch(*(np.ascontiguousarray(getattr(self, f.name)[index]) for f in fields(self)))
+        return UnitBatch(*(np.ascontiguousarray(a[index]) for a in self))
+
+
+def empty_batch(n: int, discs: int, zp: int) -> UnitBatch:
+    return UnitBatch(np.empty((n, discs, zp)), np.empty((n, discs, zp)), np.empty(n), np.empty(n), np.empty(n),
+                     np.empty(n))
 
 
 @njit(nogil=True, cache=True)
-def draw_units_kernel(streams, n, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx,
-                      a, rp, zc, zp, discs, azc_um, coef, gap_out, lever_out, chi_out, inv_out, crank_out, preload_out,
-                      save):
-    """n units drawn as the contact model draws them (contact_source.draw_unit, same streams, same
-    numbers), each turned into the elastic model's arrays: every pin's gap and lever
-    (models.contact.unit_gaps), the crank angle, the involute stage's backlash at the output [rad]
-    (the stage-1 factors' linear sum, >= 0), the crank-bearing clearance [um] and the cycloid
-    stage's preload (models.contact.stage_play; NaN when free) [um]. The first save.shape[0] units
-    are recorded as the contact model records them (cycloid stage: its rigid play [arcmin], or
-    -preload [um])."""
-    sc = unit_scratch(zp, zc, discs)
-    dr, dt, rho, cl, teeth, eq, md, ux, uy, da = sc[:10]
-    work, res = sc[19], sc[20]
+def draw_units_kernel(streams, laws, stage, coef, batch, saved):
+    """Units drawn as the contact model draws them (unit_draw.draw_unit with FactorLaws ``laws``,
+    same streams, same numbers) into ``batch`` (UnitBatch, one row per unit), each turned into the
+    elastic model's arrays: every pin's gap and lever (models.contact.unit_gaps), the crank angle,
+    the involute stage's backlash at the output [rad] (the stage-1 factors' linear sum, >= 0), the
+    crank-bearing clearance [um] and the cycloid stage's preload (models.contact.stage_play; NaN
+    when free) [um]. The first units are recorded in ``saved`` (SavedUnits) as the contact model
+    records them (cycloid stage: its rigid play [arcmin], or -preload [um])."""
+    unit = empty_unit(stage.zp, stage.zc, stage.discs, 0)
+    scratch = draw_scratch(stage.zp, stage.zc)
+    work = stage_work(stage.discs, stage.zp)
     steps = coef.shape[0]
-    sens_crank = linear_sens[linear_sens.size - 1]
-    bm = n < 0  # False, but not a literal: draw_unit then compiles once for all the kernels
-    for s in range(n):
-        step, lin, crank, eq0, md0 = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
-                                               linear_sens, idx, zp, zc, discs, steps, sc)
-        chi = 2.0 * math.pi / zp * (step + 0.5) / steps
-        chi_out[s] = chi
-        inv_out[s] = max(lin - sens_crank * crank, 0.0) / ARCMIN_PER_RAD
-        crank_out[s] = crank
+    sens_crank = laws.linear_sens_arcmin_per_um[laws.linear_sens_arcmin_per_um.size - 1]
+    for s in range(batch.chi_rad.size):
+        drawn = draw_unit(streams, laws, steps, unit, scratch)
+        chi = 2.0 * math.pi / stage.zp * (drawn.crank_step + 0.5) / steps
+        batch.chi_rad[s] = chi
+        batch.involute_backlash_rad[s] = max(drawn.linear_arcmin - sens_crank * drawn.crank_clearance_um,
+                                             0.0) / ARCMIN_PER_RAD
+        batch.crank_clearance_um[s] = drawn.crank_clearance_um
         # the gaps and levers (unit_gaps) land in the unit's rows; the rigid play of a free unit is
         # not needed (only by a recorded unit)
-        stage_play(coef[step], a, rp, zc, zp, discs, azc_um, dr, dt, rho, cl, teeth, eq, md, ux, uy, da,
-                   gap_out[s], lever_out[s], work, res, s < save.shape[0])
-        preload_out[s] = res[2] if math.isnan(res[0]) else np.nan
-        if s < save.shape[0]:
-            stage = -res[2] if math.isnan(res[0]) else (res[0] + res[1]) * ARCMIN_PER_RAD
-            save_unit(save[s], step, lin, eq0, md0, sc, zp, zc, discs, stage, crank)
+        save = s < saved.crank_step.size
+        play = stage_play(coef[drawn.crank_step], stage, unit, PinGaps(batch.gap_um[s], batch.lever_um_per_rad[s]),
+                          work, save)
+        preloaded = math.isnan(play.play_ccw_rad)
+        batch.preload_um[s] = play.preload_um if preloaded else np.nan
+        if save:
+            save_unit(saved, s, unit, drawn,
+                      -play.preload_um if preloaded else (play.play_ccw_rad + play.play_cw_rad) * ARCMIN_PER_RAD)
 
 
 CHUNK = 4096  # units drawn and evaluated at a time within a block (bounded memory)
 EVAL_THREADS = 2  # evaluation threads per block (the kernel is nogil)
 
 
-def draw_units(source: ContactBlockSource, streams: tuple, n: int, save: np.ndarray | None = None) -> UnitBatch:
+def draw_units(source: ContactBlockSource, streams: np.ndarray, n: int, saved: SavedUnits | None = None) -> UnitBatch:
     """n units from ``streams`` (contact_source.block_streams) with the contact source's laws."""
     g = source.geometry
-    gap = np.empty((n, g.discs, g.zp))
-    lever = np.empty((n, g.discs, g.zp))
-    chi, inv, crank, preload = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    draw_units_kernel(streams, n, source.error_model == "long_wave", source.codes, source.params, source.ppf_tables,
-                      source.harmonics, source.linear_idx, source.linear_sens, np.array([IDX[k] for k in STAGE2_ORDER]),
-                      g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um, source.coef, gap, lever, chi, inv, crank,
-                      preload, save if save is not None else np.empty((0, save_width(g))))
-    return UnitBatch(gap, lever, chi, inv, crank, preload)
+    batch = empty_batch(n, g.discs, g.zp)
+    draw_units_kernel(streams, source.laws, g.stage_geometry, source.coef, batch,
+                      saved if saved is not None else saved_units(0, g))
+    return batch
 
 
-def evaluate_batch(model: ElasticModel, units: UnitBatch, pin_laws: np.ndarray | None = None) -> np.ndarray:
+def evaluate_batch(design: LoopDesign, units: UnitBatch) -> np.ndarray:
     """(4, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin], preload [um] (NaN
-    when free) of every unit. ``pin_laws``: the design's ``pin_law_table`` at the contact model's
-    crank angles (``design_pin_laws``; None: each unit's contact laws computed, the same numbers)."""
+    when free) of every unit, with the design's LoopDesign (``loop_design``)."""
     out = np.empty((N_OUTPUTS, units.chi_rad.size))
-    evaluate_units(units.gap_um, units.lever_um_per_rad, units.chi_rad, units.involute_backlash_rad,
-                   units.crank_clearance_um, model.chain, model.roller_cos, out[:3], pin_laws)
+    evaluate_units(units, design, out[:3])
     out[3] = units.preload_um
     return out
 
@@ -140,10 +139,10 @@ class ElasticBlockSource:
 
     contact: ContactBlockSource  # draws the units: laws, error model, crank-angle table
     model: ElasticModel
+    design: LoopDesign  # what every unit's loop reads (with every pin's contact law at every crank step)
     outputs: tuple[Output, ...]
     save_units: int = 0
     block_size: int = BLOCK_UNITS
-    pin_laws: np.ndarray | None = None  # design_pin_laws: every pin's contact law at every crank step
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(4, n) outputs of block b (``elastic_outputs``)."""
@@ -151,20 +150,20 @@ class ElasticBlockSource:
         streams = block_streams(c.seed, b, c.stream, c.swap, c.swap_stream)
         out = np.empty((N_OUTPUTS, n))
         keep = units_to_save(self.save_units, self.block_size, b, n)
-        save = np.empty((keep, save_width(c.geometry)))
+        saved = saved_units(keep, c.geometry)
 
         def evaluate(start: int, units: UnitBatch) -> None:
-            out[:, start:start + units.chi_rad.size] = evaluate_batch(self.model, units, self.pin_laws)
+            out[:, start:start + units.chi_rad.size] = evaluate_batch(self.design, units)
 
         def draw(start: int, m: int) -> UnitBatch:
-            return draw_units(c, streams, m, save[start:start + m] if start < keep else None)
+            return draw_units(c, streams, m, saved_slice(saved, start, start + m) if start < keep else None)
 
         # Drawing is serial (one stream per factor) and ~5x faster than evaluating: a block larger
         # than a chunk (a direct call) is evaluated by a small pool while the next chunk is drawn.
         # Every chunk fills its own slice: the numbers do not depend on the pool.
         draw_then_evaluate(n, CHUNK, EVAL_THREADS, draw, evaluate)
         if keep:
-            c.saved[b] = save
+            c.saved[b] = saved
         return out
 
     def saved_units(self) -> list:
@@ -181,8 +180,8 @@ def elastic_source(problem: Problem, method: str, seed: int, stream: tuple[int, 
                                                  "remove [correlation] or use the linear model")
     model = elastic_model(problem)
     contact = contact_source(problem, "default", seed, stream)
-    return ElasticBlockSource(contact, model, elastic_outputs(model), int(save_units),
-                              pin_laws=design_pin_laws(model))
+    return ElasticBlockSource(contact, model, loop_design(model, design_pin_laws(model)), elastic_outputs(model),
+                              int(save_units))
 
 
 def design_pin_laws(model: ElasticModel) -> np.ndarray:
@@ -215,8 +214,7 @@ class ElasticStreams:
         out = np.empty((N_OUTPUTS, n))
         for start in range(0, n, CHUNK):
             m = min(CHUNK, n - start)
-            out[:, start:start + m] = evaluate_batch(self.source.model, draw_units(self.source.contact, streams, m),
-                                                     self.source.pin_laws)
+            out[:, start:start + m] = evaluate_batch(self.source.design, draw_units(self.source.contact, streams, m))
         return out
 
 

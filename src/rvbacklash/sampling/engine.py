@@ -45,7 +45,6 @@ HIST_BINS = 1 << 18
 METHODS = ("default", "box-muller", "sobol")
 MAX_SAMPLES = {"default": 10**12, "box-muller": 10**12, "sobol": 2**30}  # sobol: scipy's 30-bit limit
 PILOT_SIGMAS = 12.0  # histogram range: pilot mean +- 12 pilot standard deviations (and its min/max)
-N_STATS = 7  # per block and output: s1, s2, min, max, n passing the limit, n valid, n negative
 
 
 def block_generator(seed: int, block: int, stream: tuple[int, ...] = ()) -> Generator:
@@ -172,12 +171,12 @@ class Moments:
     n_pass: int = 0  # values meeting the limit
     n_negative: int = 0
 
-    def merge_block(self, shift: float, stats: np.ndarray) -> None:
+    def merge_block(self, shift: float, stats: kernels.BlockSummary) -> None:
         """Chan, Golub & LeVeque pairwise update with one block's shifted sums."""
-        n = int(stats[5])
+        n = int(stats.valid)
         if n == 0:
             return
-        s1, s2 = float(stats[0]), float(stats[1])
+        s1, s2 = float(stats.shifted_sum), float(stats.shifted_sum_sq)
         b_mean = shift + s1 / n
         b_m2 = max(s2 - s1 * s1 / n, 0.0)
         tot = self.n + n
@@ -185,10 +184,10 @@ class Moments:
         self.mean += delta * n / tot
         self.m2 += b_m2 + delta * delta * self.n * n / tot
         self.n = tot
-        self.min = min(self.min, float(stats[2]))
-        self.max = max(self.max, float(stats[3]))
-        self.n_pass += int(stats[4])
-        self.n_negative += int(stats[6])
+        self.min = min(self.min, float(stats.min))
+        self.max = max(self.max, float(stats.max))
+        self.n_pass += int(stats.passing)
+        self.n_negative += int(stats.negative)
 
 
 @dataclass
@@ -303,7 +302,8 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
         frame.update(ranges=ranges, scales=[HIST_BINS / (hi - lo) for lo, hi in ranges], shifts=shifts)
 
     def task(blocks: range):
-        """(its blocks, per block: stats (k, N_STATS) and joint count; histograms (k, bins)) of some blocks."""
+        """(its blocks, per block: each output's BlockSummary and the joint count; histograms (k, bins))
+        of some blocks."""
         ys = []
         for b in blocks:
             y = source.block(b, sizes[b])
@@ -320,10 +320,9 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
         hist = np.zeros((k, HIST_BINS + 2), dtype=np.int64)
         per_block = []
         for b, y in zip(blocks, ys):
-            stats = np.empty((k, N_STATS))
-            for c in range(k):
-                kernels.accumulate(y[c], shifts[c], limits_a[c], upper[c], hist[c], ranges[c][0], scales[c], stats[c])
-            joint = kernels.count_joint(y, limits_a, upper) if k > 1 else int(stats[0, 4])
+            stats = [kernels.accumulate(y[c], shifts[c], limits_a[c], upper[c], hist[c], ranges[c][0], scales[c])
+                     for c in range(k)]
+            joint = kernels.count_joint(y, limits_a, upper) if k > 1 else int(stats[0].passing)
             per_block.append((stats, joint))
         return blocks, per_block, hist
 
@@ -346,10 +345,10 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
             run.samples += sizes[b]
             run.n_joint_pass += joint
         for c in range(k):  # only the bins between the task's least and greatest value (a few MB less each)
-            valid = [stats[c] for stats, _ in per_block if stats[c, 5] > 0]
+            valid = [stats[c] for stats, _ in per_block if stats[c].valid > 0]
             if valid:
-                lo = histogram_bin(min(s[2] for s in valid), frame["ranges"][c][0], frame["scales"][c])
-                hi = histogram_bin(max(s[3] for s in valid), frame["ranges"][c][0], frame["scales"][c]) + 1
+                lo = histogram_bin(min(s.min for s in valid), frame["ranges"][c][0], frame["scales"][c])
+                hi = histogram_bin(max(s.max for s in valid), frame["ranges"][c][0], frame["scales"][c]) + 1
                 np.add(hist_total[c, lo:hi], hist[c, lo:hi], out=hist_total[c, lo:hi])
         next_block = blocks.stop
 

@@ -9,6 +9,7 @@ drawn by ``fast_normals`` (its own generator inside the kernel).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from rvbacklash._numba import njit
 import numpy as np
@@ -47,15 +48,26 @@ def box_muller_normals(rng, n, k, out):
             out[i, j] = box_muller_normal(r1, r2)
 
 
-@njit(nogil=True, cache=True)
-def accumulate(y, shift, limit, upper, hist, h_lo, h_scale, stats):
-    """One block's mergeable summary of one output's values ``y``; NaN marks a sample the output
-    does not apply to (e.g. the lost motion of a preloaded unit) and is skipped.
+class BlockSummary(NamedTuple):
+    """One block's mergeable summary of one output (``accumulate``): the sums of its values shifted
+    by (about) the mean, so that they do not cancel, its least and greatest value, and how many
+    values pass the limit, are valid (not NaN) and are negative."""
 
-    stats <- [sum(y - shift), sum((y - shift)^2), min, max, #passing the limit, #valid, #(y < 0)],
-    passing = y <= limit if ``upper`` else y >= limit;
+    shifted_sum: float  # sum(y - shift)
+    shifted_sum_sq: float  # sum((y - shift)^2)
+    min: float
+    max: float
+    passing: int
+    valid: int
+    negative: int
+
+
+@njit(nogil=True, cache=True)
+def accumulate(y, shift, limit, upper, hist, h_lo, h_scale):
+    """One block's BlockSummary of one output's values ``y``; NaN marks a sample the output does not
+    apply to (e.g. the lost motion of a preloaded unit) and is skipped. Passing: y <= limit if
+    ``upper`` else y >= limit;
     hist[1 + floor((y - h_lo) * h_scale)] += 1, with hist[0] / hist[-1] the under/overflow.
-    Sums are shifted by (about) the mean so that they do not cancel.
     """
     nb_bins = hist.size - 2
     s1 = 0.0
@@ -87,13 +99,7 @@ def accumulate(y, shift, limit, upper, hist, h_lo, h_scale, stats):
             hist[nb_bins + 1] += 1
         else:
             hist[int(t) + 1] += 1
-    stats[0] = s1
-    stats[1] = s2
-    stats[2] = mn
-    stats[3] = mx
-    stats[4] = ok
-    stats[5] = valid
-    stats[6] = negative
+    return BlockSummary(s1, s2, mn, mx, ok, valid, negative)
 
 
 @njit(nogil=True, cache=True)

@@ -25,6 +25,7 @@ import math
 import functools
 from dataclasses import dataclass
 from statistics import NormalDist
+from typing import NamedTuple
 
 from rvbacklash._numba import njit
 import numpy as np
@@ -50,19 +51,43 @@ class HarmonicPart:
     conformity: float
 
 
-def harmonics_table(n: int) -> np.ndarray:
-    """(4, n): cos theta_k, sin theta_k, cos 2 theta_k, sin 2 theta_k of a part of n elements."""
-    th = 2.0 * math.pi * np.arange(n) / n
-    return np.stack([np.cos(th), np.sin(th), np.cos(2 * th), np.sin(2 * th)])
+class Harmonics(NamedTuple):
+    """cos theta_k, sin theta_k, cos 2 theta_k, sin 2 theta_k of a part's N elements (element_harmonics)."""
+
+    cos1: np.ndarray
+    sin1: np.ndarray
+    cos2: np.ndarray
+    sin2: np.ndarray
+
+
+class Wave(NamedTuple):
+    """One part's long-wave deviation [um]: its first-harmonic vector u and its second c."""
+
+    first_x_um: float
+    first_y_um: float
+    second_x_um: float
+    second_y_um: float
 
 
 @njit(nogil=True, cache=True)
-def harmonic_deviations(ux, uy, cx, cy, s, q, trig, t_out, r_out):
-    """t_k and r_k of one part (module docstring) [um] from its harmonic vectors, its per-element
-    parts and its ``harmonics_table``."""
+def element_harmonics(n):
+    """The Harmonics of a part of n elements, theta_k = 2 pi k / n."""
+    out = Harmonics(np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    for k in range(n):
+        th = 2.0 * math.pi * k / n
+        out.cos1[k], out.sin1[k], out.cos2[k], out.sin2[k] = math.cos(th), math.sin(th), math.cos(2 * th), \
+            math.sin(2 * th)
+    return out
+
+
+@njit(nogil=True, cache=True)
+def harmonic_deviations(wave, s, q, trig, t_out, r_out):
+    """t_k and r_k of one part (module docstring) [um] from its long-wave ``wave``, its per-element
+    parts s_k, q_k and its ``element_harmonics``."""
+    ux, uy, cx, cy = wave.first_x_um, wave.first_y_um, wave.second_x_um, wave.second_y_um
     for k in range(s.size):
-        t_out[k] = -ux * trig[1, k] + uy * trig[0, k] + cx * trig[2, k] + cy * trig[3, k] + s[k]
-        r_out[k] = ux * trig[0, k] + uy * trig[1, k] + q[k]
+        t_out[k] = -ux * trig.sin1[k] + uy * trig.cos1[k] + cx * trig.cos2[k] + cy * trig.sin2[k] + s[k]
+        r_out[k] = ux * trig.cos1[k] + uy * trig.sin1[k] + q[k]
 
 
 def conforms(t: np.ndarray, r: np.ndarray | None, part: IndexedPart) -> np.ndarray:

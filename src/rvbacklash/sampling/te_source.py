@@ -17,7 +17,8 @@ Units are drawn serially (one stream per factor) in chunks and evaluated by a sm
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from numpy.random import SeedSequence
@@ -25,15 +26,18 @@ from numpy.random import SeedSequence
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
 from rvbacklash.errors import InputError
-from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, crank_fit, curve_scratch, kinematics, position_table,
-                                          reference_revolution, te_curve)
+from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, Kinematics, PositionTable, curve_scratch,
+                                          kinematics, position_table, reference_revolution, te_curve)
+from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, empty_units, realization_at, store_unit,
+                                           unit_at)
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
 from rvbacklash.sampling.chunked import draw_then_evaluate
-from rvbacklash.sampling.contact_source import (BLOCK_UNITS, IDX, N_STREAMS, STAGE2_ORDER, ContactBlockSource, _normal,
-                                                block_streams, contact_source, draw_unit, unit_scratch)
+from rvbacklash.sampling.contact_source import (BLOCK_UNITS, ContactBlockSource, block_streams, contact_source,
+                                                units_to_save)
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators, stream_states
+from rvbacklash.sampling.unit_draw import N_STREAMS, _normal, draw_scratch, draw_unit
 from rvbacklash.units import ARCMIN_PER_RAD
 
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
@@ -55,58 +59,82 @@ def te_streams(seed: int, block: int, stream: tuple[int, ...] = ()) -> np.ndarra
         [SeedSequence(seed, spawn_key=(*stream, block, N_STREAMS + m)) for m in range(len(KINEMATIC_FACTORS))])])
 
 
+class KinematicSigmas(NamedTuple):
+    """The kinematic factors' sigma per component [um] (KINEMATIC_FACTORS, in its order: each draws
+    from its own stream, KINEMATIC_STREAMS)."""
+
+    centre_gear_um: float
+    planet_um: float
+    disc_hole_um: float
+    carrier_hole_um: float
+
+
+# each kinematic factor's stream among the kinematic streams (KINEMATIC_FACTORS order)
+CENTRE_GEAR_STREAM, PLANET_STREAM, DISC_HOLE_STREAM, CARRIER_HOLE_STREAM = range(4)
+
+
+class TEBatch(NamedTuple):
+    """m drawn units as the transmission-error evaluation takes them: their errors (a UnitErrors
+    batch), their involute and crank stages' lost motion [arcmin] and their crank bearings'
+    clearance [um] (a saved unit's)."""
+
+    units: UnitErrors
+    linear_arcmin: np.ndarray
+    crank_clearance_um: np.ndarray
+
+
+def first_units(batch: TEBatch, k: int) -> TEBatch:
+    """A copy of the first k units of a batch."""
+    return TEBatch(UnitErrors(*(a[:k].copy() for a in batch.units)), batch.linear_arcmin[:k].copy(),
+                   batch.crank_clearance_um[:k].copy())
+
+
 @njit(nogil=True, cache=True)
-def draw_chunk(streams, kin, m, long_wave, codes, params, tables, harmonics, linear_idx, linear_sens, idx, zp, zc,
-               discs, planets, crank_radius_mm, sigmas, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, lin, centre,
-               planet, shift, turn):
-    """m units into the arrays (first axis: unit): the contact model's draws (draw_unit, crank angle
-    ignored: every unit starts at the reference position) and the kinematic factors' (``kin``: one
-    xoshiro stream state each, KINEMATIC_FACTORS order; ``sigmas`` per component [um]), the holes reduced by
-    crank_fit to each disc's shift and turn."""
-    sc = unit_scratch(zp, zc, discs)
-    hd = np.empty((discs, planets, 2))
-    hc = np.empty((planets, 2))
-    # False and one crank-angle step, but not literals: draw_unit then compiles once for all the kernels
-    bm, steps = m < 0, np.int64(1)
-    for s in range(m):
-        _, lin[s], _, _, _ = draw_unit(streams, bm, long_wave, codes, params, tables, harmonics, linear_idx,
-                                       linear_sens, idx, zp, zc, discs, steps, sc)
-        dr[s, :] = sc[0]
-        dt[s, :] = sc[1]
-        rho[s, :] = sc[2]
-        cl[s, :] = sc[3]
-        teeth[s, :, :] = sc[4]
-        eq[s, :] = sc[5]
-        md[s, :] = sc[6]
-        ux[s, :] = sc[7]
-        uy[s, :] = sc[8]
-        da[s, :] = sc[9]
+def draw_chunk(streams, kin_streams, laws, sigmas, batch):
+    """The units of ``batch`` (TEBatch), one row each: the contact model's draws (unit_draw.draw_unit
+    with FactorLaws ``laws``; crank angle ignored: every unit starts at the reference position)
+    and the kinematic factors' (``kin_streams``: one xoshiro stream state each, KINEMATIC_FACTORS
+    order; ``sigmas``: KinematicSigmas): the gears' eccentricities and the crank holes of the discs
+    and of the carrier."""
+    units = batch.units
+    zp, discs, zc = units.pin_radial_um.shape[1], units.tooth_pitch_um.shape[1], units.tooth_pitch_um.shape[2]
+    planets = units.planet_eccentricity_um.shape[1]
+    unit = empty_unit(zp, zc, discs, planets)
+    scratch = draw_scratch(zp, zc)
+    centre, planet, hd, hc = unit.centre_gear_eccentricity_um, unit.planet_eccentricity_um, unit.disc_crank_hole_um, \
+        unit.carrier_crank_hole_um
+    steps = np.int64(1)  # one crank-angle step, but not a literal: draw_unit then compiles once for all the kernels
+    for s in range(batch.linear_arcmin.size):
+        drawn = draw_unit(streams, laws, steps, unit, scratch)
+        batch.linear_arcmin[s] = drawn.linear_arcmin
+        batch.crank_clearance_um[s] = drawn.crank_clearance_um
         for c in range(2):
-            centre[s, c] = sigmas[0] * _normal(kin, 0, False)
+            centre[c] = sigmas.centre_gear_um * _normal(kin_streams, CENTRE_GEAR_STREAM, False)
         for k in range(planets):
             for c in range(2):
-                planet[s, k, c] = sigmas[1] * _normal(kin, 1, False)
+                planet[k, c] = sigmas.planet_um * _normal(kin_streams, PLANET_STREAM, False)
         for d in range(discs):
             for k in range(planets):
                 for c in range(2):
-                    hd[d, k, c] = sigmas[2] * _normal(kin, 2, False)
+                    hd[d, k, c] = sigmas.disc_hole_um * _normal(kin_streams, DISC_HOLE_STREAM, False)
         for k in range(planets):
             for c in range(2):
-                hc[k, c] = sigmas[3] * _normal(kin, 3, False)
-        crank_fit(hd, hc, crank_radius_mm, planets, discs, shift[s], turn[s])
+                hc[k, c] = sigmas.carrier_hole_um * _normal(kin_streams, CARRIER_HOLE_STREAM, False)
+        store_unit(units, s, unit)
 
 
 @njit(nogil=True, cache=True)
-def evaluate_chunk(m, coef, chis, thetas, a, rp, zc, zp, discs, azc_um, ratio, base_radius_mm, crank_radius_mm,
-                   planets, dr, dt, rho, cl, teeth, eq, md, ux, uy, da, lin, centre, planet, shift, turn, ref_ccw, out):
-    """TE_OUTPUTS of m drawn units into out (3, m)."""
-    teeth_s, ux_s, uy_s, dchi, gap, lever, work, res = curve_scratch(zp, zc, discs, planets)
-    n = chis.size
-    ccw, cw, pre = np.empty(n), np.empty(n), np.empty(n)
-    for s in range(m):
-        te_curve(coef, chis, thetas, 0.0, a, rp, zc, zp, discs, azc_um, ratio, base_radius_mm, crank_radius_mm,
-                 dr[s], dt[s], rho[s], cl[s], teeth[s], eq[s], md[s], ux[s], uy[s], da[s], centre[s], planet[s],
-                 shift[s], turn[s], teeth_s, ux_s, uy_s, dchi, gap, lever, work, res, ccw, cw, pre, False)
+def evaluate_chunk(stage, kin, table, batch, ref_ccw, out):
+    """TE_OUTPUTS of the units of ``batch`` (TEBatch) into out (3, m): StageGeometry ``stage``, the
+    design's Kinematics ``kin``, the PositionTable of the positions, the error-free unit's ccw flank
+    there (``ref_ccw``)."""
+    n = table.chi_rad.size
+    scratch = curve_scratch(stage.zp, stage.zc, stage.discs, kin.planets)
+    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n))
+    ccw, cw = curve.ccw_rad, curve.cw_rad
+    lin = batch.linear_arcmin
+    for s in range(lin.size):
+        te_curve(stage, kin, table, unit_at(batch.units, s), 0.0, scratch, curve, False)
         lo, hi, lm_max = np.inf, -np.inf, 0.0
         for k in range(n):
             v = ccw[k] - ref_ccw[k]
@@ -123,86 +151,76 @@ class TransmissionBlockSource:
     """Block source of the engine for the transmission error (method: default)."""
 
     contact: ContactBlockSource  # laws, error model, harmonics of the contact model
-    sigmas_um: np.ndarray  # per component, KINEMATIC_FACTORS order
-    ratio: float
-    base_radius_mm: float
-    crank_radius_mm: float
-    planets: int
-    table: tuple  # (theta, chi, mesh_table) of the positions
+    sigmas: KinematicSigmas
+    kinematics: Kinematics
+    table: PositionTable  # the output positions
     ref_ccw_rad: np.ndarray  # the error-free unit's ccw flank at the positions
     outputs: tuple[Output, ...] = TE_OUTPUTS
     block_size: int = BLOCK_UNITS  # the contact model's blocks: the same units
+    save_units: int = 0  # record the errors of the first units of the run (kinematic errors included)
+    saved: dict = field(default_factory=dict)  # block -> (its first units' TEBatch, their backlash [arcmin])
 
-    def _draw(self, streams: np.ndarray, m: int) -> tuple:
+    def _draw(self, streams: np.ndarray, m: int) -> TEBatch:
         c, g = self.contact, self.contact.geometry
-        p = self.planets
-        arrays = (np.empty((m, g.zp)), np.empty((m, g.zp)), np.empty((m, g.zp)), np.empty((m, g.zp)),
-                  np.empty((m, g.discs, g.zc)), *(np.empty((m, g.discs)) for _ in range(5)), np.empty(m),
-                  np.empty((m, 2)), np.empty((m, p, 2)), np.empty((m, g.discs, 2)), np.empty((m, g.discs)))
-        draw_chunk(streams[:N_STREAMS], streams[N_STREAMS:], m, c.error_model == "long_wave", c.codes, c.params,
-                   c.ppf_tables, c.harmonics, c.linear_idx, c.linear_sens, np.array([IDX[k] for k in STAGE2_ORDER]),
-                   g.zp, g.zc, g.discs, p, self.crank_radius_mm, self.sigmas_um, *arrays)
-        return arrays
+        batch = TEBatch(empty_units(m, g.zp, g.zc, g.discs, self.kinematics.planets), np.empty(m), np.empty(m))
+        draw_chunk(streams[:N_STREAMS], streams[N_STREAMS:], c.laws, self.sigmas, batch)
+        return batch
 
-    def _evaluate(self, arrays: tuple, out: np.ndarray) -> None:
-        g = self.contact.geometry
-        theta, chis, coef = self.table
-        evaluate_chunk(out.shape[1], coef, chis, theta, g.a_mm, g.rp_mm, g.zc, g.zp, g.discs, g.pitch_radius_um,
-                       self.ratio, self.base_radius_mm, self.crank_radius_mm, self.planets, *arrays, self.ref_ccw_rad,
-                       out)
+    def _evaluate(self, batch: TEBatch, out: np.ndarray) -> None:
+        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.ref_ccw_rad, out)
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(3, n) outputs of block b (TE_OUTPUTS)."""
         c = self.contact
         streams = te_streams(c.seed, b, c.stream)
         out = np.empty((len(self.outputs), n))
-        draw_then_evaluate(n, CHUNK, EVAL_THREADS, lambda start, m: self._draw(streams, m),
-                           lambda start, units: self._evaluate(units, out[:, start:start + units[0].shape[0]]))
+        keep = units_to_save(self.save_units, self.block_size, b, n)
+
+        def evaluate(start: int, batch: TEBatch) -> None:
+            self._evaluate(batch, out[:, start:start + batch.linear_arcmin.size])
+            if start == 0 and keep:  # the run's first units are in a block's first chunk (keep <= CHUNK)
+                self.saved[b] = (first_units(batch, keep), out[0, :keep].copy())
+
+        draw_then_evaluate(n, CHUNK, EVAL_THREADS, lambda start, m: self._draw(streams, m), evaluate)
         return out
 
-    def saved_units(self) -> list:
-        return []
+    def saved_units(self) -> list[tuple[Realization, float, float]]:
+        """The recorded units, in run order, as the contact model records them: (errors with the
+        kinematic ones, at the reference position (crank angle 0); linear stages [arcmin]; the
+        cycloid stage's lost motion at the reference position [arcmin], 0 when preloaded)."""
+        out = []
+        for b in sorted(self.saved):
+            batch, backlash = self.saved[b]
+            for s in range(batch.linear_arcmin.size):
+                lin = float(batch.linear_arcmin[s])
+                out.append((realization_at(batch.units, s, 0.0, crank_clearance_um=float(batch.crank_clearance_um[s])),
+                            lin, float(backlash[s]) - lin))
+        return out
 
 
 def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
-                        save_units: int = 0, positions: int | None = None) -> TransmissionBlockSource:
+                        save_units: int = 0) -> TransmissionBlockSource:
     """The transmission-error model's block source (positions per revolution: POSITIONS_PER_PIN z_p)."""
 
     if method != "default":
         raise InputError("method", method, "allowed with the transmission-error model: default")
-    if save_units:
-        raise InputError("save_units", save_units, "allowed with the contact and elastic models")
+    if save_units > CHUNK:
+        raise InputError("save_units", save_units, f"allowed with the transmission-error model: 0 to {CHUNK} units")
     c = contact_source(problem, "default", seed, stream)
     g = problem.cycloid
-    n = positions or POSITIONS_PER_PIN * g.zp
-    table = position_table(g, n, 0.0)
+    n = POSITIONS_PER_PIN * g.zp
     ref = reference_revolution(problem, n, 0.0, exact=False)
-    k = kinematics(problem)
-    sigmas = np.array([z.sigma_um for z in kinematic_zones(problem.design, problem.zones)])
-    return TransmissionBlockSource(c, sigmas, k.ratio, k.base_radius_mm, k.crank_radius_mm, k.planets, table,
-                                   ref.ccw_rad, TE_OUTPUTS)
+    sigmas = KinematicSigmas(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
+    return TransmissionBlockSource(c, sigmas, kinematics(problem), position_table(g, n, 0.0), ref.ccw_rad, TE_OUTPUTS,
+                                   save_units=int(save_units))
 
 
-def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = ()) -> list:
+def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = ()) -> list[Realization]:
     """The first n units of block 0 of a production run (the same numbers ``simulate`` draws) as
-    Realizations at the reference position (crank angle 0), for one-unit curves. The crank holes
-    are given as the disc holes that the least-squares fit maps to the same placement (carrier holes
-    zero): -(shift + turn R_c t_k), t_k the tangent at crank k."""
-    from rvbacklash.models.contact import Realization
-
+    Realizations at the reference position (crank angle 0), for one-unit curves."""
     src = transmission_source(problem, "default", seed, stream)
-    dr, dt, rho, cl, teeth, eq, md, ux, uy, da, lin, centre, planet, shift, turn = src._draw(
-        te_streams(seed, 0, tuple(stream)), n)
-    gam = 2 * np.pi * np.arange(src.planets) / src.planets
-    tangent = np.stack([-np.sin(gam), np.cos(gam)], axis=1)  # (P, 2)
-    out = []
-    for s in range(n):
-        holes = -(shift[s][:, None, :] + turn[s][:, None, None] * src.crank_radius_mm * 1e3 * tangent[None, :, :])
-        out.append(Realization(0.0, dr[s].copy(), dt[s].copy(), rho[s].copy(), cl[s].copy(), teeth[s].copy(),
-                               np.stack([ux[s], uy[s]], axis=1), da[s].copy(), eq[s].copy(), md[s].copy(),
-                               centre_gear_eccentricity_um=centre[s].copy(), planet_eccentricity_um=planet[s].copy(),
-                               disc_crank_hole_um=holes, carrier_crank_hole_um=np.zeros((src.planets, 2))))
-    return out
+    batch = src._draw(te_streams(seed, 0, tuple(stream)), n)
+    return [realization_at(batch.units, s, 0.0) for s in range(n)]
 
 
 @dataclass(frozen=True, eq=False)
@@ -229,5 +247,5 @@ def transmission_streams(problem: Problem) -> TransmissionStreams:
     from rvbacklash.factors.catalog import FACTOR_KEYS, KINEMATIC_KEYS
 
     source = transmission_source(problem, "default", 0)
-    random = tuple(bool(x) for x in problem.random_mask) + (True,) + tuple(bool(s > 0) for s in source.sigmas_um)
+    random = tuple(bool(x) for x in problem.random_mask) + (True,) + tuple(bool(s > 0) for s in source.sigmas)
     return TransmissionStreams(source, random, tuple(FACTOR_KEYS) + ("crank_angle",) + KINEMATIC_KEYS)

@@ -1,0 +1,634 @@
+"""The elastic hysteresis model: a unit's torque-angle loop as the test bench measures it
+(docs/elastic.md).
+
+Input locked, housing fixed, torque T on the output. The output angle is a chain of elements in
+series, each referred to the output:
+
+    theta(T) = theta_pins + theta_crank + theta_involute + theta_crankshafts + theta_support + theta_carrier
+               + T_el / K_structure + T_el / K_main
+
+- **cycloid pins** (both discs in parallel, tied by the cranks: one rotation): contact j closes
+  by delta_j = (L_j / k) theta - g_j [um] (gap g_j and signed lever L_j of the contact model,
+  ``models.contact.unit_gaps``; k the lever factor, ``compliance.cycloid_lever_factor``);
+  its force F_j(delta_j) inverts the line-contact law; theta solves 1e-6 sum F_j L_j / k = T_el
+  (monotone in theta; preloaded units start in contact);
+- **crank (swivel-arm) needle bearings**: every bearing carries F = T_el k / (n a0); its rollers
+  (rollers at 2 pi i / Z, one on the load line) close by delta_r cos(psi_i) - G_r / 2 (radial
+  clearance G_r: the dead band); the disc turns delta_r / a0 against the carrier, the output k
+  times that;
+- **involute stage**: dead band b_1 (its backlash at the output) and stiffness K_1;
+- **the rest of the torque path** from the design's [structure] table (``with_structure``):
+  crankshafts (bending, shear, torsion: linear), support bearings (a tapered-roller set with its
+  clearance, solved like the needle bearings, once per batch), carrier pillars (linear), and the
+  discs' sideways motion on their needle bearings (a factor on their elastic part across the
+  eccentric; with ``disc_translation = "full"`` also along it, ``solve_pins``);
+- **structure** and **main bearings**: stated stiffnesses (a measured value wins).
+
+Friction: a Coulomb torque T_f = T_f0 + mu |T_el| at the output in parallel with the chain
+(``compliance.elastic_torque_nm``). The loop's rising branch (load+ and unload-) and falling
+branch (load- and unload+) then differ; at the turning points the output sticks until the
+torque has changed by twice the friction.
+
+This module holds the chain: the design's ``Chain`` record (``elastic_model``), each element's
+set of contacts (``prepare_pins``, ``prepare_rollers``, ``prepare_support``), the angle of each
+element at a torque (``chain_angles``) and the loop's figures (``loop_figures``). The solves are
+in ``solver``, the unit (from a realisation or a measured unit, its figures) in ``unit``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import NamedTuple
+
+import numpy as np
+
+from rvbacklash._numba import njit, njit_borrowing
+from rvbacklash.design.elastic import ElasticInputs
+from rvbacklash.design.structure import StructureInputs
+from rvbacklash.errors import InputError
+from rvbacklash.geometry.cycloid import ContactGeometry
+from rvbacklash.models import compliance as cm
+from rvbacklash.models.elastic.solver import (NEGATIVE, POSITIVE, ContactLaw, ContactSet, DiscTranslation, PinSet,
+                                              SupportMemo, SupportSet, closure_order, new_state, set_bounds, solve_pins,
+                                              solve_set, support_deflection_um)
+from rvbacklash.problem import Problem
+from rvbacklash.units import ARCMIN_PER_RAD
+
+ELEMENTS = ("cycloid_pins", "crank_bearings", "involute_stage", "structure", "crankshafts", "support_bearings",
+            "carrier", "main_bearings")
+N_ELEMENTS = len(ELEMENTS)
+# unit_hysteresis fills out[0:N_FIGURES]: lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin],
+# then the lost motion of each element [arcmin] (they sum to the lost motion), then each element's
+# angle over the rigidity interval [arcmin] (they sum to the interval's angle: the compliance shares)
+LOST_MOTION, BACKLASH, RIGIDITY = 0, 1, 2
+SHARES = 3 + N_ELEMENTS
+N_FIGURES = 3 + 2 * N_ELEMENTS
+TRANSLATION_ROUNDS = 60  # solve_pins' rounds (x solve, Newton step on the translations) at most
+SUPPORT_MEMO = 24  # torques remembered by a support set (chain_angles' repeated calls)
+RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
+BOUND_CONTACTS = 6  # pins assumed to share +-T_R when bounding the rotation (prepare_pins)
+
+
+class Chain(NamedTuple):
+    """Everything the kernels need of a design besides the unit's own arrays."""
+
+    law_b: float  # contact law delta = F^n (a - b ln F) [um, N]: b and n, shared by every pin
+    law_n: float
+    johnson: bool  # per-pin a from the flank curvature (Johnson); else a = palmgren_a for every pin
+    palmgren_a: float
+    contact_length_mm: float
+    pin_radius_mm: float
+    generating_radius_mm: float
+    pin_circle_radius_mm: float
+    k1: float
+    pins: float
+    discs: float
+    pin_e_gpa: float
+    pin_nu: float
+    disc_e_gpa: float
+    disc_nu: float
+    lever_factor: float  # k: output rotation per disc rotation
+    involute_stiffness_nm_per_rad: float
+    structure_stiffness_nm_per_rad: float  # inf: rigid
+    bearing_force_n_per_nm: float  # radial load of one crank bearing per N m of T_el
+    bearing_angle_rad_per_um: float  # output rotation per um of radial bearing deflection
+    roller_a: float  # law of one roller between its raceways (two contacts in series)
+    roller_b: float
+    rollers_symmetric: bool  # an even number of rollers (a load and its mirror deflect alike)
+    rated_torque_nm: float
+    measuring_fraction: float
+    rigidity_low: float
+    rigidity_high: float
+    friction_nm: float
+    friction_fraction: float
+    # the whole torque path (design/structure.py; issue 16). Off: 1, inf, 0.
+    translation_factor: float  # disc_translation_factor: the needle bearings' elastic part, times this
+    radial_stiffness_n_per_um: float  # K_y of one disc's bearings along its eccentric (inf: no translation)
+    crank_compliance_rad_per_nm: float  # crankshafts: bending + shear + torsion, at the output
+    carrier_compliance_rad_per_nm: float
+    main_bearing_compliance_rad_per_nm: float  # stated only (derived: unloaded by a pure torque)
+    support_rollers: int  # rollers per support bearing (0: no support bearings modelled)
+    support_cos_alpha: float
+    support_clearance_um: float
+    support_a: float  # Palmgren's law of one roller between its raceways (two contacts)
+    support_symmetric: bool
+    support_force_n_per_nm: float  # radial load of one support bearing per N m of T_el
+    translation_rounds: int  # solve_pins: at most this many x solves per torque with the discs translating
+
+
+@dataclass(frozen=True)
+class ElasticModel:
+    """The elastic model of a design: resolved inputs (``chain``), roller layout, and what the
+    report says about them."""
+
+    inputs: ElasticInputs
+    geometry: ContactGeometry
+    chain: Chain
+    roller_cos: np.ndarray  # cos(psi_i) of the rollers of one crank bearing
+    bearings: int  # crank needle bearings carrying the disc torque (discs x cranks)
+    crank_circle_radius_mm: float
+    raceway_diameter_mm: float
+    structure: StructureInputs | None = None  # the whole torque path's dimensions (None: rigid)
+    derived: bool = False  # the crankshafts, support bearings and carrier derived from ``structure``
+
+    @property
+    def lever_factor(self) -> float:
+        return self.chain.lever_factor
+
+    @property
+    def involute_stiffness_nm_per_arcmin(self) -> float:
+        return self.chain.involute_stiffness_nm_per_rad / ARCMIN_PER_RAD
+
+    @property
+    def structure_stiffness_nm_per_arcmin(self) -> float:
+        return self.chain.structure_stiffness_nm_per_rad / ARCMIN_PER_RAD
+
+    @property
+    def translating(self) -> bool:
+        """The discs move sideways on their needle bearings (the pins' radial resultant followed)."""
+        return math.isfinite(self.chain.radial_stiffness_n_per_um)
+
+
+def elastic_model(problem: Problem) -> ElasticModel:
+    """Resolve the design's [elastic] table into the kernels' parameters (docs/elastic.md)."""
+    design = problem.design
+    e = design.elastic
+    if e is None:
+        raise InputError("elastic", None, "allowed: an [elastic] table in the design with at least rated_torque_nm, "
+                                          "disc_face_width_mm and the crank bearing's rollers (docs/elastic.md)")
+    g = problem.cycloid
+    s1, s2 = design.first_stage, design.second_stage
+    if s1.face_width_mm is None:
+        raise InputError("first_stage.face_width_mm", None, "required by the elastic model (involute mesh "
+                                                            "stiffness); allowed: face width b [mm]")
+    raceway = e.crank_bearing_raceway_diameter_mm or design.crank_stage.bearing_bore_mm
+    if raceway is None:
+        raise InputError("elastic.crank_bearing_raceway_diameter_mm", None,
+                         "required when crank_stage.bearing_bore_mm is not given; allowed: diameter [mm]")
+    length = e.disc_face_width_mm if e.pin_length_mm is None else min(e.disc_face_width_mm, e.pin_length_mm / g.discs)
+    k = cm.cycloid_lever_factor(s2.cycloid_teeth, s2.pins, s1.centre_gear_teeth, s1.planet_teeth,
+                                e.lever_arms == "kinematic")
+    geo = problem.geometry
+    k_inv = cm.mesh_torsional_stiffness_nm_per_rad(e.mesh_stiffness_n_per_mm_um, s1.face_width_mm,
+                                                   geo.centre_gear_pitch_radius_mm, geo.ratio, s1.planets,
+                                                   geo.pressure_angle_deg)
+    k_struct = (math.inf if e.structure_stiffness_nm_per_arcmin is None
+                else e.structure_stiffness_nm_per_arcmin * ARCMIN_PER_RAD)
+    c_main = (0.0 if e.main_bearing_stiffness_nm_per_arcmin is None
+              else 1.0 / (e.main_bearing_stiffness_nm_per_arcmin * ARCMIN_PER_RAD))
+    a0 = geo.crank_circle_radius_mm
+    bearings = g.discs * s1.planets
+    dw, lw = e.crank_bearing_roller_diameter_mm, e.crank_bearing_roller_length_mm
+    johnson = e.contact_law == "johnson"
+    if johnson:
+        inner = cm.capped_relative_radius_mm(dw / 2, raceway / 2, cm.RELATIVE_RADIUS_CAP * dw / 2)
+        outer = cm.capped_relative_radius_mm(dw / 2, -(raceway / 2 + dw), cm.RELATIVE_RADIUS_CAP * dw / 2)
+        roller = cm.Body(dw / 2, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio)
+        roller_a = (cm.johnson_law_a_um_per_n(lw, roller, cm.Body(raceway / 2, e.disc_youngs_modulus_gpa,
+                                                                  e.disc_poisson_ratio), inner)
+                    + cm.johnson_law_a_um_per_n(lw, roller, cm.Body(raceway / 2 + dw, e.disc_youngs_modulus_gpa,
+                                                                    e.disc_poisson_ratio), outer))
+        b1 = cm.johnson_law_b_um_per_n(lw, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio, e.disc_youngs_modulus_gpa,
+                                       e.disc_poisson_ratio)
+        roller_b, law_b, law_n = 2.0 * b1, cm.johnson_law_b_um_per_n(
+            length, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio, e.disc_youngs_modulus_gpa, e.disc_poisson_ratio), 1.0
+    else:
+        roller_a, roller_b = 2.0 * cm.palmgren_law_a(lw), 0.0
+        law_b, law_n = 0.0, cm.PALMGREN_EXPONENT
+    low, high = e.rigidity_interval_fraction
+    chain = Chain(
+        law_b=law_b, law_n=law_n, johnson=johnson, palmgren_a=cm.palmgren_law_a(length),
+        contact_length_mm=length, pin_radius_mm=g.rrp_mm,
+        generating_radius_mm=g.rrp_mm + s2.equidistance_modification_um * 1e-3, pin_circle_radius_mm=g.rp_mm,
+        k1=g.K1, pins=float(g.zp), discs=float(g.discs), pin_e_gpa=e.pin_youngs_modulus_gpa, pin_nu=e.pin_poisson_ratio,
+        disc_e_gpa=e.disc_youngs_modulus_gpa, disc_nu=e.disc_poisson_ratio, lever_factor=k,
+        involute_stiffness_nm_per_rad=k_inv, structure_stiffness_nm_per_rad=k_struct,
+        bearing_force_n_per_nm=k * 1e3 / (bearings * a0), bearing_angle_rad_per_um=k * 1e-3 / a0,
+        roller_a=roller_a, roller_b=roller_b, rollers_symmetric=e.crank_bearing_rollers % 2 == 0,
+        rated_torque_nm=e.rated_torque_nm,
+        measuring_fraction=e.measuring_torque_fraction, rigidity_low=float(low), rigidity_high=float(high),
+        friction_nm=e.friction_torque_nm, friction_fraction=e.friction_load_fraction,
+        translation_factor=1.0, radial_stiffness_n_per_um=math.inf, crank_compliance_rad_per_nm=0.0,
+        carrier_compliance_rad_per_nm=0.0, main_bearing_compliance_rad_per_nm=c_main, support_rollers=0,
+        support_cos_alpha=1.0, support_clearance_um=0.0, support_a=1.0, support_symmetric=False,
+        support_force_n_per_nm=0.0, translation_rounds=TRANSLATION_ROUNDS)
+    psi = 2 * math.pi * np.arange(e.crank_bearing_rollers) / e.crank_bearing_rollers
+    model = ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
+    return with_structure(problem, model) if design.structure is not None else model
+
+
+def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
+    """The model with the whole torque path of the design's [structure] table (docs/elastic.md,
+    "The whole torque path"): crankshafts, support bearings and carrier derived from their
+    dimensions (unless ``structure_stiffness_nm_per_arcmin`` states them: a measured value wins),
+    and the discs' sideways motion on their needle bearings. Computed once per design."""
+    st = problem.design.structure
+    e, c, geo = model.inputs, model.chain, problem.geometry
+    s1 = problem.design.first_stage
+    if problem.cycloid.discs != 2:
+        raise InputError("second_stage.discs", problem.cycloid.discs,
+                         "the derived torque path ([structure]) is for two discs, symmetric about the crankshaft's "
+                         "mid-span; allowed: discs = 2, or remove [structure] and state "
+                         "elastic.structure_stiffness_nm_per_arcmin")
+    k, a0, nb_ = c.lever_factor, model.crank_circle_radius_mm, model.bearings
+    changes: dict[str, float | int | bool] = {}
+    derived = e.structure_stiffness_nm_per_arcmin is None
+    if derived:
+        offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
+        bend = cm.crank_symmetric_deflection_um_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
+                                                      st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
+        twist = cm.shaft_torsion_compliance_rad_per_nm(st.crankshaft_torsion_length_mm,
+                                                       st.crankshaft_torsion_diameter_mm or st.crankshaft_diameter_mm,
+                                                       st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
+        pillar = cm.pillar_deflection_um_per_n(st.pillar_length_mm, st.pillar_width_mm, st.pillar_depth_mm,
+                                               st.carrier_youngs_modulus_gpa, st.carrier_poisson_ratio)
+        changes.update(
+            crank_compliance_rad_per_nm=(
+                cm.tangential_output_compliance_rad_per_nm(bend, k, nb_, a0)
+                + cm.crank_torsion_output_compliance_rad_per_nm(twist, geo.planet_pitch_radius_mm,
+                                                                geo.centre_gear_pitch_radius_mm, geo.ratio,
+                                                                s1.planets)),
+            carrier_compliance_rad_per_nm=cm.carrier_output_compliance_rad_per_nm(pillar, st.carrier_pillars,
+                                                                                   st.pillar_radius_mm, k),
+            support_rollers=int(st.support_bearing_rollers),
+            support_cos_alpha=math.cos(math.radians(st.support_bearing_contact_angle_deg)),
+            support_clearance_um=st.support_bearing_clearance_um,
+            support_a=2.0 * cm.palmgren_law_a(st.support_bearing_roller_length_mm),
+            support_symmetric=st.support_bearing_rollers % 2 == 0,
+            # each end of a crank takes half of both discs' forces on it (discs symmetric about mid-span)
+            support_force_n_per_nm=c.bearing_force_n_per_nm * problem.cycloid.discs / 2.0)
+    if st.disc_translation != "none":
+        rho = problem.cycloid.a_mm * problem.cycloid.zc
+        changes.update(translation_factor=cm.disc_translation_factor(a0, rho))
+    if st.disc_translation == "full":
+        changes.update(radial_stiffness_n_per_um=radial_stiffness_n_per_um(model, st))
+    return replace(model, chain=c._replace(**changes), structure=st, derived=derived)
+
+
+def radial_stiffness_n_per_um(model: ElasticModel, st: StructureInputs) -> float:
+    """K_y: one disc's support along its eccentric by its needle bearings (one per crank, in
+    parallel), each in series with its crank bent by the two discs' opposite radial forces
+    (``crank_antisymmetric_deflection_um_per_n``). A bearing's stiffness is its secant at the
+    rated torque's tangential load with zero clearance (a linear spring: the clearance stays a dead
+    band of the tangential direction only; docs/elastic.md). [N/um]"""
+    c = model.chain
+    load = c.rated_torque_nm * c.bearing_force_n_per_nm
+    deflection = solve_set(prepare_rollers(0.0, model.roller_cos, c), ContactLaw(c.roller_b, c.law_n, 1.0), load, 1.0,
+                           np.nan, (np.nan, np.nan)).x
+    offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
+    crank = cm.crank_antisymmetric_deflection_um_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
+                                                       st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
+    cranks = model.bearings // model.geometry.discs
+    return cranks / (deflection / load + crank)
+
+
+# --- each element's set of contacts ------------------------------------------------------------
+
+@njit(nogil=True, cache=True)
+def pin_law_a(phi, c):
+    """Coefficient a of pin j's contact law [um/N^n] at phase phi = psi_j - chi_d: Johnson's
+    approach with the relative radius of the pin and the flank (``flank_radius_mm`` of
+    ``pin_centre_curve_radius_mm``); the flank's body radius is its radius of curvature, at most
+    r_p where the flank is nearly straight. Palmgren: the same for every pin."""
+    if not c.johnson:
+        return c.palmgren_a
+    rho = cm.flank_radius_mm(cm.pin_centre_curve_radius_mm(phi, c.pin_circle_radius_mm, c.k1, c.pins),
+                             c.generating_radius_mm)
+    r_rel = cm.capped_relative_radius_mm(c.pin_radius_mm, rho, cm.RELATIVE_RADIUS_CAP * c.pin_radius_mm)
+    body = min(abs(rho), c.pin_circle_radius_mm)
+    return cm.johnson_law_a_um_per_n(c.contact_length_mm, cm.Body(c.pin_radius_mm, c.pin_e_gpa, c.pin_nu),
+                                     cm.Body(body, c.disc_e_gpa, c.disc_nu), r_rel)
+
+
+@njit(nogil=True, cache=True)
+def pin_phase(index, chi, zp, discs):
+    """Phase phi = psi_j - chi_d [rad] of the pin at flat index d z_p + j."""
+    d = index // zp
+    j = index - d * zp
+    return 2.0 * math.pi * j / zp - (chi + 2.0 * math.pi * d / discs)
+
+
+@njit(nogil=True, cache=True)
+def fill_pin_law(chi, c, out):
+    """pin_law_a of every pin of every disc at crank angle chi [rad] into out (discs, z_p)."""
+    discs, zp = out.shape
+    for d in range(discs):
+        for j in range(zp):
+            out[d, j] = pin_law_a(pin_phase(d * zp + j, chi, zp, discs), c)
+
+
+@njit(nogil=True, cache=True)
+def pin_law_table(c, zp, discs, steps):
+    """pin_law_a of every pin (flat index d z_p + j) at the crank angles the contact model draws,
+    chi_s = 2 pi / z_p (s + 1/2) / steps (contact_source.CRANK_STEPS): (steps, discs z_p), the
+    same numbers as computed unit by unit, once per design."""
+    out = np.empty((steps, discs * zp))
+    for s in range(steps):
+        fill_pin_law(2.0 * math.pi / zp * (s + 0.5) / steps, c, out[s].reshape((discs, zp)))
+    return out
+
+
+@njit(nogil=True, cache=True)
+def unit_pin_laws(chi, c, zp, discs, table):
+    """pin_law_a of every pin (flat) of a unit at crank angle chi: its row of ``pin_law_table``
+    when chi is one of the table's angles (exactly), else computed."""
+    if table is not None:
+        steps = table.shape[0]
+        s = int(math.floor(chi * zp * steps / (2.0 * math.pi)))
+        if 0 <= s < steps and 2.0 * math.pi / zp * (s + 0.5) / steps == chi:
+            return table[s]
+    out = np.empty((discs, zp))
+    fill_pin_law(chi, c, out)
+    return out.ravel()
+
+
+@njit(nogil=True, cache=True)
+def _pins_bound(g, lev, laws, bounds, c, load):
+    """A rotation beyond the one at which the pins carry ``load`` (+-T_R), in closed form: if the
+    k pins with the largest levers L_j on the loaded side (k <= BOUND_CONTACTS) each carry an
+    equal share, F_j = |load| / (k 1e-6 L_j), their closures delta(F_j) (the contact law as the
+    solver reads it, ``law_approach_continued_um``: a tiny lever's huge share stays huge) are reached
+    at x_k = max_j (g_j + delta(F_j)) / L_j, where they carry the load; the other pins on the
+    loaded side add to it, and beyond the other side's last release nothing pulls back; so
+    max(min_k x_k, lo) (load > 0) bounds the rotation (no solve)."""
+    m = g.size
+    k = min(BOUND_CONTACTS, m)
+    idx = np.full(k, -1)
+    for j in range(m):  # the k largest levers on the loaded side (insertion into a short list)
+        v = lev[j] * load
+        if v <= 0.0:
+            continue
+        pos = k
+        while pos > 0 and (idx[pos - 1] < 0 or lev[idx[pos - 1]] * load < v):
+            pos -= 1
+        if pos < k:
+            for q in range(k - 1, pos, -1):
+                idx[q] = idx[q - 1]
+            idx[pos] = j
+    best = np.inf
+    for kk in range(1, k + 1):
+        if idx[kk - 1] < 0:
+            break
+        x = 0.0
+        for q in range(kk):
+            j = idx[q]
+            lv = abs(lev[j])
+            # in y = x sign(load): (g_j + delta) / |L_j| on either side
+            xj = (g[j] + cm.law_approach_continued_um(abs(load) / (kk * 1e-6 * lv), laws[j], c.law_b, c.law_n)) / lv
+            x = max(x, xj) if q > 0 else xj
+        best = min(best, x)
+    best += 1e-12 * abs(best)  # rounding
+    if load > 0.0:
+        return max(best, bounds.lo)
+    return min(-best, bounds.hi)
+
+
+@njit(nogil=True, cache=True)
+def prepare_pins(unit, c, every, table):
+    """The pin contacts of a unit (its ElasticUnit: gaps, levers, crank angle) referred to the output
+    (levers / k), with their contact-law coefficients and bounds: a PinSet.
+    Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
+    ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
+    rotation closes, the tip and root pins); each with its closure per um of its disc's translation
+    along the eccentric (``compliance.pin_radial_closure``; 0 when the discs do not translate), its
+    disc, and the translations' state (``solve_pins``). ``table``: the design's ``pin_law_table``
+    (no rows: each law computed).
+    Without translation the kept contacts are in ``closure_order`` (npos, nneg: its runs; else
+    -1, 0)."""
+    chi = unit.chi_rad
+    discs, zp = unit.gap_um.shape
+    g = unit.gap_um.ravel()
+    lev = unit.lever_um_per_rad.ravel() / c.lever_factor
+    m = g.size
+    bounds = set_bounds(g, lev, m)
+    laws = unit_pin_laws(chi, c, zp, discs, table)
+    x_hi, x_lo = np.inf, -np.inf
+    if not every:
+        x_hi = _pins_bound(g, lev, laws, bounds, c, c.rated_torque_nm)
+        x_lo = _pins_bound(g, lev, laws, bounds, c, -c.rated_torque_nm)
+    keep = 0
+    gk = np.empty(m)
+    lk = np.empty(m)
+    ak = np.empty(m)
+    rk = np.zeros(m)
+    dk = np.zeros(m, dtype=np.int64)
+    for j in range(m):
+        if every or lev[j] * x_hi - g[j] > 0.0 or lev[j] * x_lo - g[j] > 0.0:
+            gk[keep] = g[j]
+            lk[keep] = lev[j]
+            ak[keep] = laws[j]
+            if every:  # only translating discs read the radial closures (fixed: left 0)
+                rk[keep] = cm.pin_radial_closure(pin_phase(j, chi, zp, discs), c.k1)
+            dk[keep] = j // zp
+            keep += 1
+    npos, nneg = -1, 0
+    if not every:  # fixed gaps: in closure order (set_load stops each run at its first open contact)
+        order, npos, nneg = closure_order(gk, lk, keep)
+        gk, lk, ak, rk, dk = gk[order], lk[order], ak[order], rk[order], dk[order]
+    translation = DiscTranslation(np.zeros(discs), np.zeros(discs), np.zeros(discs), np.zeros(discs), np.zeros(discs),
+                                  np.zeros(discs), np.zeros(discs), np.empty(keep), np.empty((discs, discs)),
+                                  np.empty(discs))
+    return PinSet(ContactSet(gk, lk, ak, set_bounds(gk, lk, keep), np.zeros(keep), npos, nneg), rk, dk, translation)
+
+
+@njit(nogil=True, cache=True)
+def prepare_rollers(crank_clearance_um, roller_cos, c):
+    """One crank bearing's rollers (a ContactSet): gap G_r / 2 each, lever cos(psi_i)."""
+    z = roller_cos.size
+    g = np.full(z, 0.5 * crank_clearance_um)
+    la = np.full(z, c.roller_a)
+    return ContactSet(g, roller_cos, la, set_bounds(g, roller_cos, z), np.zeros(z), -1, 0)
+
+
+@njit(nogil=True, cache=True)
+def prepare_support(c):
+    """One crank support (tapered roller) bearing's rollers under a radial load, axially held (the
+    two of a crank face each other and carry equal loads, so their induced axial forces cancel):
+    roller i at psi_i = 2 pi i / Z closes, normal to its raceway, by (delta_r cos psi_i - G / 2)
+    cos(alpha); its normal force Q_i bears cos(alpha) cos(psi_i) of itself radially. Levers
+    cos(alpha) cos(psi_i), gaps G cos(alpha) / 2, Palmgren's law (Harris & Kotzalas, Rolling
+    Bearing Analysis 5th ed., the load distribution of a radially loaded roller bearing with
+    clearance; docs/elastic.md): a SupportSet. The support bearings' deflection is the same
+    function of the chain's torque for every unit of a design: its memo keeps SUPPORT_MEMO torques,
+    sides and deflections solved, so that repeated ``chain_angles`` calls on one set (a unit's loop
+    table) solve each torque once (a batch of units reads the loop's ten from ``loop_points``)."""
+    z = c.support_rollers
+    lv = np.empty(z)
+    for i in range(z):
+        lv[i] = c.support_cos_alpha * math.cos(2.0 * math.pi * i / z)
+    g = np.full(z, 0.5 * c.support_clearance_um * c.support_cos_alpha)
+    la = np.full(z, c.support_a)
+    return SupportSet(ContactSet(g, lv, la, set_bounds(g, lv, z), np.zeros(z), -1, 0),
+                      SupportMemo(np.full(SUPPORT_MEMO, np.nan), np.full(SUPPORT_MEMO, np.nan),
+                                  np.full(SUPPORT_MEMO, np.nan)))
+
+
+class LoopUnit(NamedTuple):
+    """A unit prepared for its loop: its pins' and its crank bearings' contact sets, and the
+    involute stage's backlash at the output [rad] (>= 0)."""
+
+    pins: PinSet
+    rollers: ContactSet
+    involute_backlash_rad: float
+
+
+class LoopPoints(NamedTuple):
+    """The points of the loop that ``loop_figures`` reads (``loop_points``), LOOP_POINTS each: the
+    chain torque T_el [N m], the side at zero torque, the support bearings' deflection there [um],
+    the point's weight in its figure."""
+
+    torque_nm: np.ndarray
+    side: np.ndarray
+    support_um: np.ndarray
+    weight: np.ndarray
+
+
+@njit(nogil=True, cache=True)
+def chain_angles(t_el, side, unit, support, c, state, out):
+    """Output angle of each element [rad] (ELEMENTS order) of a LoopUnit when the chain carries
+    t_el [N m]; at t_el = 0, ``side`` picks the edge of the dead bands (+1: positive). ``state``:
+    the unit's SOLVE_STATE (warm starts), updated. A translating disc's dead-band edge is read at
+    TINY_TORQUE (its radial balance needs a load direction)."""
+    s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
+    support_um = support_deflection_um(t_el, s, support, c, state) if c.support_rollers > 0 else 0.0
+    _chain_angles(t_el, side, unit, support_um, c, state, out)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def _chain_angles(t_el, side, unit, support_um, c, state, out):
+    """``chain_angles`` with the support bearings' deflection given [um] (``loop_points``)."""
+    st = state[0]
+    s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
+    k = POSITIVE if s > 0.0 else NEGATIVE
+    pins = solve_pins(unit.pins, t_el, s, st.pins_start[k], c, (st.pins_tangent_load_nm[k],
+                                                                 st.pins_tangent_stiffness[k]))
+    if not math.isnan(pins.stiffness):
+        st.pins_tangent_load_nm[k] = t_el
+        st.pins_tangent_stiffness[k] = pins.stiffness
+    x = pins.x
+    rollers = unit.rollers
+    load = t_el * c.bearing_force_n_per_nm
+    if c.rollers_symmetric and load != 0.0 and abs(load) == st.rollers_last_load_n:
+        dr = s * st.rollers_last_um  # an even number of rollers, one on the load line: the mirror of the last solve
+    else:
+        dr = solve_set(rollers, ContactLaw(c.roller_b, c.law_n, 1.0), load, s, st.rollers_start[k],
+                       (np.nan, np.nan)).x
+        st.rollers_last_load_n = abs(load)
+        st.rollers_last_um = abs(dr)
+    if t_el != 0.0:
+        st.pins_start[k] = x
+        st.rollers_start[k] = dr
+    out[0] = x
+    if c.translation_factor != 1.0:  # the translation across the eccentric adds to the elastic part only
+        edge = 0.0
+        if rollers.bounds.lo <= rollers.bounds.hi:  # a clearance: the dead band's edge on this side
+            edge = rollers.bounds.hi if s > 0.0 else rollers.bounds.lo
+        dr = edge + (dr - edge) * c.translation_factor
+    out[1] = dr * c.bearing_angle_rad_per_um
+    out[2] = 0.5 * s * unit.involute_backlash_rad + t_el / c.involute_stiffness_nm_per_rad
+    out[3] = t_el / c.structure_stiffness_nm_per_rad
+    out[4] = t_el * c.crank_compliance_rad_per_nm
+    out[5] = support_um * c.bearing_angle_rad_per_um
+    out[6] = t_el * c.carrier_compliance_rad_per_nm
+    out[7] = t_el * c.main_bearing_compliance_rad_per_nm
+
+
+@njit(nogil=True, cache=True)
+def branch_point(torque_nm, branch, c):
+    """(chain torque T_el [N m], side) on the rising (RISE: load+, unload-) or falling (FALL: load-,
+    unload+) branch at applied torque T, in the steady loop 0 -> +T_R -> 0 -> -T_R -> 0: the output
+    sticks at the turning point until friction is overcome; where the chain's torque passes 0 the
+    side is the end the branch arrives from (the jump through the dead bands follows)."""
+    tr = c.rated_torque_nm
+    tf, mu = c.friction_nm, c.friction_fraction
+    if branch == RISE:
+        stick = cm.applied_torque_nm(cm.elastic_torque_nm(-tr, False, tf, mu), True, tf, mu)
+        if torque_nm < stick:  # still held where the falling branch left it at -T_R
+            return cm.elastic_torque_nm(-tr, False, tf, mu), 1.0
+        return cm.elastic_torque_nm(torque_nm, True, tf, mu), -1.0
+    stick = cm.applied_torque_nm(cm.elastic_torque_nm(tr, True, tf, mu), False, tf, mu)
+    if torque_nm > stick:
+        return cm.elastic_torque_nm(tr, True, tf, mu), -1.0
+    return cm.elastic_torque_nm(torque_nm, False, tf, mu), 1.0
+
+
+@njit(nogil=True, cache=True)
+def branch_angles(torque_nm, branch, unit, support, c, state, out):
+    """Element angles [rad] of a LoopUnit on a branch at applied torque T (``branch_point``,
+    ``chain_angles``)."""
+    t_el, side = branch_point(torque_nm, branch, c)
+    chain_angles(t_el, side, unit, support, c, state, out)
+
+
+LOOP_POINTS = 10  # the loop's points that the figures read (loop_points)
+
+
+@njit(nogil=True, cache=True)
+def loop_points(support, c):
+    """The LoopPoints of the design (SupportSet ``support``, Chain ``c``), in loop_figures' order
+    (from small to large torques, a torque and its mirror in turn, so that each solve starts from
+    the previous one): zero torque on the falling and the rising branch (the backlash: weights +1,
+    -1), +-x T_R on both branches (the lost motion: +-1/2), +-l T_R and +-h T_R loading (the
+    rigidity's span: -+1, +-1). The same for every unit of a design: computed once per design."""
+    tr = c.rated_torque_nm
+    xt = c.measuring_fraction * tr
+    lo, hi = c.rigidity_low * tr, c.rigidity_high * tr
+    out = LoopPoints(np.empty(LOOP_POINTS), np.empty(LOOP_POINTS), np.empty(LOOP_POINTS), np.empty(LOOP_POINTS))
+    state = new_state()
+    for q, (torque, branch, weight) in enumerate(((0.0, FALL, 1.0), (0.0, RISE, -1.0), (xt, RISE, 0.5),
+                                                  (-xt, FALL, -0.5), (xt, FALL, 0.5), (-xt, RISE, -0.5),
+                                                  (lo, RISE, -1.0), (-lo, FALL, 1.0), (hi, RISE, 1.0),
+                                                  (-hi, FALL, -1.0))):
+        t_el, side = branch_point(torque, branch, c)
+        s = side if t_el == 0.0 else (1.0 if t_el > 0.0 else -1.0)
+        out.torque_nm[q] = t_el
+        out.side[q] = side
+        out.support_um[q] = support_deflection_um(t_el, s, support, c, state) if c.support_rollers > 0 else 0.0
+        out.weight[q] = weight
+    return out
+
+
+@njit_borrowing(nogil=True, cache=True)
+def loop_figures(unit, points, c, state, out, a):
+    """The test-bench figures of a prepared unit into out[0:N_FIGURES] (module docstring):
+
+        lost motion = 1/2 [theta(+x T_R, load) + theta(+x T_R, unload)] - 1/2 [theta(-x T_R, load) + theta(-x T_R, unload)]
+        backlash    = theta(0, unload+) - theta(0, unload-)           (the loop's width at zero torque)
+        rigidity    = 2 (h - l) T_R / ([theta(h T_R) - theta(l T_R)]_load+ + [theta(-l T_R) - theta(-h T_R)]_load-)
+
+    [arcmin, arcmin, N m/arcmin] of a LoopUnit ``unit``, then the lost motion of each element
+    [arcmin], then each element's part of the rigidity's angle span [arcmin] (its compliance share
+    times the span). ``points``: the design's ``loop_points``. ``state``: ``new_state()``; it holds
+    the reach of the pins' solves afterwards. ``a``: scratch (N_ELEMENTS,). Allocates nothing:
+    compiled without numba's runtime (``njit_borrowing``), it and the solvers it calls keep no
+    reference counts."""
+    width = 0.0
+    for e in range(N_ELEMENTS):
+        out[3 + e] = 0.0  # the elements' lost motion, then their span, accumulated in place [rad]
+        out[SHARES + e] = 0.0
+    for q in range(LOOP_POINTS):  # loop_points' rows: 2 for the backlash, 4 for the lost motion, 4 for the span
+        _chain_angles(points.torque_nm[q], points.side[q], unit, points.support_um[q], c, state, a)
+        w = points.weight[q]
+        if q < 2:
+            total = 0.0
+            for e in range(N_ELEMENTS):
+                total += a[e]
+            width += w * total
+        for e in range(N_ELEMENTS):
+            if 2 <= q < 6:
+                out[3 + e] += w * a[e]
+            elif q >= 6:
+                out[SHARES + e] += w * a[e]
+    lm = 0.0
+    total = 0.0
+    for e in range(N_ELEMENTS):
+        lm += out[3 + e]
+        total += out[SHARES + e]
+    tr = c.rated_torque_nm
+    out[LOST_MOTION] = lm * ARCMIN_PER_RAD
+    out[BACKLASH] = width * ARCMIN_PER_RAD
+    out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (total * ARCMIN_PER_RAD) if total > 0.0 else np.inf
+    for e in range(N_ELEMENTS):
+        out[3 + e] *= ARCMIN_PER_RAD
+        out[SHARES + e] *= ARCMIN_PER_RAD
