@@ -248,7 +248,7 @@ def test_linear_allocation_rejects_a_preload_spec(small):
 
 
 def test_uniform_candidates_cover_the_common_grades(small):
-    from rvbacklash.analysis.allocation import _uniform
+    from rvbacklash.analysis.allocation.candidates import _uniform
 
     common = sorted(set.intersection(*(set(c.grades) for c in small.groups)))
     assert [g for g, _ in _uniform(small)] == common == [5, 6]

@@ -1,0 +1,42 @@
+"""The public entry of tolerance allocation: ``allocate`` checks the specs against the model and
+picks the exact MILP (linear model, ``milp``) or the Monte-Carlo search (the others, ``search``).
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from rvbacklash.analysis.allocation.milp import allocate_linear
+from rvbacklash.analysis.allocation.results import AllocationResult
+from rvbacklash.analysis.allocation.search import DEFAULT_MC_SAMPLES, allocate_monte_carlo
+from rvbacklash.errors import InputError
+from rvbacklash.problem import Problem
+
+
+def allocate(problem: Problem, *, spec_arcmin: float, yield_target: float, model: str = "linear",
+             spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
+             spec_te_arcsec: float | None = None, samples: int = DEFAULT_MC_SAMPLES, seed: int = 0,
+             executor=None, workers: int | None = None, pareto: bool = True,
+             progress: Callable[[int], None] | None = None) -> AllocationResult:
+    """The cheapest grades per part group meeting the spec at the target yield: exact for the
+    linear model, a Monte-Carlo search for the others (modules ``milp``, ``search``). A TE spec
+    (``spec_te_arcsec``) turns the contact model into the transmission model (the same units turned
+    through a revolution, models.kinematics), as ``simulate`` does."""
+    if spec_te_arcsec is not None and model == "contact":
+        model = "transmission"
+    if model == "linear":
+        if spec_te_arcsec is not None:
+            raise InputError("spec_te_arcsec", spec_te_arcsec, "the linear model has no transmission-error output; "
+                                                               "allowed with the contact or transmission model")
+        if spec_rigidity_nm_per_arcmin is not None:
+            raise InputError("spec_rigidity_nm_per_arcmin", spec_rigidity_nm_per_arcmin,
+                             "the linear model has no rigidity output; allowed with a model that has one (elastic)")
+        if spec_preload_um is not None:
+            raise InputError("spec_preload_um", spec_preload_um,
+                             "the linear model has no preload output; allowed with the contact or elastic model")
+        return allocate_linear(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, pareto=pareto)
+    return allocate_monte_carlo(problem, model=model, spec_arcmin=spec_arcmin, yield_target=yield_target,
+                                spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
+                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec, samples=samples,
+                                seed=seed,
+                                executor=executor, workers=workers, progress=progress)
