@@ -248,11 +248,11 @@ def test_linear_allocation_rejects_a_preload_spec(small):
 
 
 def test_uniform_candidates_cover_the_common_grades(small):
-    from rvbacklash.analysis.allocation.candidates import _uniform
+    from rvbacklash.analysis.allocation.candidates import uniform_grades
 
     common = sorted(set.intersection(*(set(c.grades) for c in small.groups)))
-    assert [g for g, _ in _uniform(small)] == common == [5, 6]
-    assert all(set(c) == {g} for g, c in _uniform(small))
+    assert [g for g, _ in uniform_grades(small)] == common == [5, 6]
+    assert all(set(c) == {g} for g, c in uniform_grades(small))
     assert len(list(itertools.product(*(c.grades for c in small.groups)))) == 6912
 
 

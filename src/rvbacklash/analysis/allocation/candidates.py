@@ -14,7 +14,7 @@ from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.problem import Problem
 
 
-def _neighbours(ch: GradeChoices, grades: tuple[int, ...], step: int) -> list[tuple[int, ...]]:
+def neighbour_grades(ch: GradeChoices, grades: tuple[int, ...], step: int) -> list[tuple[int, ...]]:
     """Candidates that move one group one grade coarser (step +1) or finer (step -1)."""
     out = []
     for j, c in enumerate(ch.groups):
@@ -24,43 +24,43 @@ def _neighbours(ch: GradeChoices, grades: tuple[int, ...], step: int) -> list[tu
     return out
 
 
-def _swaps(ch: GradeChoices, grades: tuple[int, ...]) -> list[tuple[int, ...]]:
+def swap_grades(ch: GradeChoices, grades: tuple[int, ...]) -> list[tuple[int, ...]]:
     """Coarsen one group and tighten another, when that is cheaper."""
     out = []
-    for a in _neighbours(ch, grades, +1):
-        for b in _neighbours(ch, a, -1):
+    for a in neighbour_grades(ch, grades, +1):
+        for b in neighbour_grades(ch, a, -1):
             if b != grades and sum(x != y for x, y in zip(b, grades)) == 2 and ch.cost(b) < ch.cost(grades):
                 out.append(b)
     return out
 
 
-def _uniform(choices: GradeChoices) -> list[tuple[int, tuple[int, ...]]]:
+def uniform_grades(choices: GradeChoices) -> list[tuple[int, tuple[int, ...]]]:
     common = set(choices.groups[0].grades).intersection(*(c.grades for c in choices.groups[1:]))
     return [(g, tuple(g for _ in choices.groups)) for g in sorted(common)]
 
 
-def _named(choices: GradeChoices, grades: Sequence[int]) -> dict[str, int]:
+def named_grades(choices: GradeChoices, grades: Sequence[int]) -> dict[str, int]:
     return {c.name: int(g) for c, g in zip(choices.groups, grades)}
 
 
-def _description(problem: Problem, label: str) -> str:
+def design_description(problem: Problem, label: str) -> str:
     base = problem.design.description
     return (base + " | " if base else "") + label
 
 
-def _binding(label: str, value: Proportion, target: float, choices: GradeChoices,
+def binding_constraint(label: str, value: Proportion, target: float, choices: GradeChoices,
              grades: Sequence[int]) -> Binding:
     finest = tuple(c.name for c, g in zip(choices.groups, grades) if g == c.grades[0])
     return Binding(label, value.fraction, value.ci95_low, target, value.ci95_low - target, finest)
 
 
-def _groups_table(choices: GradeChoices, grades: Sequence[int]) -> tuple[GroupGrade, ...]:
+def groups_table(choices: GradeChoices, grades: Sequence[int]) -> tuple[GroupGrade, ...]:
     return tuple(GroupGrade(c.name, c.group.grade_table, tuple(c.group.factors), c.current_grade, int(g),
                             c.current_cost, c.cost_of(g), c.grades[0], c.grades[-1], c.group.description)
                  for c, g in zip(choices.groups, grades))
 
 
-def _front(points: list[FrontPoint]) -> tuple[FrontPoint, ...]:
+def pareto_front(points: list[FrontPoint]) -> tuple[FrontPoint, ...]:
     """Non-dominated points (cheaper or higher yield than every other), cheapest first; one point
     per distinct design."""
     unique: dict[tuple, FrontPoint] = {}

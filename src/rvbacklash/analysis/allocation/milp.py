@@ -30,8 +30,9 @@ from typing import Sequence
 
 import numpy as np
 
-from rvbacklash.analysis.allocation.candidates import (_binding, _description, _front, _groups_table, _named,
-                                                       _neighbours, _swaps, _uniform)
+from rvbacklash.analysis.allocation.candidates import (binding_constraint, design_description, groups_table,
+                                                       named_grades, neighbour_grades, pareto_front, swap_grades,
+                                                       uniform_grades)
 from rvbacklash.analysis.allocation.results import AllocationResult, Baseline, FrontPoint
 from rvbacklash.analysis.allocation.specs import check_targets
 from rvbacklash.analysis.exact import ExactDistribution, exact_distribution
@@ -253,7 +254,7 @@ def _polish_exact(choices: GradeChoices, grades: tuple[int, ...], yields: ExactY
     target exactly, cheapest first, until none."""
     current = grades
     while True:
-        moves = _neighbours(choices, current, +1) + _swaps(choices, current)
+        moves = neighbour_grades(choices, current, +1) + swap_grades(choices, current)
         better = sorted((choices.cost(m), m) for m in moves if choices.cost(m) < choices.cost(current) - 1e-12)
         nxt = next((m for _, m in better if yields(m) >= target), None)
         if nxt is None:
@@ -290,25 +291,25 @@ def allocate_linear(problem: Problem, *, spec_arcmin: float, yield_target: float
                          f"P(backlash <= {spec_arcmin:g} arcmin) = {yields(finest):.6g}; allowed: a lower yield, a "
                          f"larger spec, or finer grades (grade_min in [costs])")
     label = f"grades allocated by rvbacklash: P(backlash <= {spec_arcmin:g} arcmin) >= {yield_target:g}, linear model"
-    chosen = ch.design(sol.grades, _description(problem, label))
+    chosen = ch.design(sol.grades, design_description(problem, label))
     # the reported yield is that of the written design through simulate's own exact path
     y_exact = exact_result(prepare(chosen), spec_arcmin=float(spec_arcmin)).yield_
-    points = [FrontPoint(sol.cost, y_exact, _named(ch, sol.grades), "optimum", float(yield_target), True)]
+    points = [FrontPoint(sol.cost, y_exact, named_grades(ch, sol.grades), "optimum", float(yield_target), True)]
     if pareto:
         for level in PARETO_YIELDS:
             if level == yield_target:
                 continue
             s = solve_linear(ch, spec_arcmin, level, yields, oa)
             if s.grades is not None:
-                points.append(FrontPoint(s.cost, Proportion.exact(s.yield_fraction), _named(ch, s.grades),
+                points.append(FrontPoint(s.cost, Proportion.exact(s.yield_fraction), named_grades(ch, s.grades),
                                          "optimum", level))
     uniform = []
-    for g, cand in _uniform(ch):
-        uniform.append(FrontPoint(ch.cost(cand), Proportion.exact(yields(cand)), _named(ch, cand), "uniform", None))
-    feasible_uniform = [(p.cost, g) for (g, _), p in zip(_uniform(ch), uniform) if p.yield_.fraction >= yield_target]
+    for g, cand in uniform_grades(ch):
+        uniform.append(FrontPoint(ch.cost(cand), Proportion.exact(yields(cand)), named_grades(ch, cand), "uniform", None))
+    feasible_uniform = [(p.cost, g) for (g, _), p in zip(uniform_grades(ch), uniform) if p.yield_.fraction >= yield_target]
     if feasible_uniform:
         cost_b, grade_b = min(feasible_uniform)
-        base = Baseline(grade_b, cost_b, next(p.yield_ for (g, _), p in zip(_uniform(ch), uniform) if g == grade_b))
+        base = Baseline(grade_b, cost_b, next(p.yield_ for (g, _), p in zip(uniform_grades(ch), uniform) if g == grade_b))
     else:
         base = Baseline(None, None, None)
     current = ch.current
@@ -329,9 +330,9 @@ def allocate_linear(problem: Problem, *, spec_arcmin: float, yield_target: float
         spec_arcmin=float(spec_arcmin), spec_rigidity_nm_per_arcmin=None, spec_preload_um=None, spec_te_arcsec=None,
         yield_target=float(yield_target),
         unit=ch.unit, cost=sol.cost, cost_before=cost_before, yield_=y_exact, yield_before=before,
-        yields={"backlash": y_exact}, grades=_named(ch, sol.grades), groups=_groups_table(ch, sol.grades),
-        binding=_binding(constraint, y_exact, yield_target, ch, sol.grades), baseline=base, saving=saving,
+        yields={"backlash": y_exact}, grades=named_grades(ch, sol.grades), groups=groups_table(ch, sol.grades),
+        binding=binding_constraint(constraint, y_exact, yield_target, ch, sol.grades), baseline=base, saving=saving,
         saving_fraction=saving / base.cost if saving is not None and base.cost else None,
-        front=_front(points + uniform), uniform=tuple(uniform), samples=None, seed=None,
+        front=pareto_front(points + uniform), uniform=tuple(uniform), samples=None, seed=None,
         evaluations=yields.evaluations, verification=None, elapsed_s=time.perf_counter() - started, partial=False,
         notes=tuple(notes), design=chosen)

@@ -19,11 +19,12 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from rvbacklash.analysis.allocation.candidates import (_binding, _description, _front, _groups_table, _named,
-                                                       _neighbours, _swaps, _uniform)
+from rvbacklash.analysis.allocation.candidates import (binding_constraint, design_description, groups_table,
+                                                       named_grades, neighbour_grades, pareto_front, swap_grades,
+                                                       uniform_grades)
 from rvbacklash.analysis.allocation.milp import LinearSolution, solve_linear
 from rvbacklash.analysis.allocation.results import AllocationResult, Baseline, Binding, FrontPoint
-from rvbacklash.analysis.allocation.specs import SPEC_PARAMETERS, _specs_text, check_targets, extra_specs
+from rvbacklash.analysis.allocation.specs import SPEC_PARAMETERS, check_targets, extra_specs, specs_text
 from rvbacklash.analysis.grade_choices import GradeChoices, grade_choices
 from rvbacklash.analysis.sensitivity_global import ThreadExecutor
 from rvbacklash.analysis.simulation import simulate
@@ -116,7 +117,7 @@ def search_monte_carlo(ch: GradeChoices, start: tuple[int, ...], runs: _Runs, ta
     ev = runs.evaluate([current])[0]
     # 1. tighten until feasible: the move with the most yield per cost
     while not _feasible(ev, target) and not runs.interrupted and len(runs.cache) < max_evaluations:
-        moves = _neighbours(ch, current, -1)
+        moves = neighbour_grades(ch, current, -1)
         if not moves or ev is None:
             return None
         evs = runs.evaluate(moves)
@@ -136,11 +137,11 @@ def search_monte_carlo(ch: GradeChoices, start: tuple[int, ...], runs: _Runs, ta
     # 2. cheaper neighbours while any is feasible: the feasible single-group coarsenings, cheapest
     #    first, are combined one by one while the combination stays feasible (several groups per step)
     while not runs.interrupted and len(runs.cache) < max_evaluations:
-        moves = [m for m in _neighbours(ch, current, +1) if ch.cost(m) < ch.cost(current)]
+        moves = [m for m in neighbour_grades(ch, current, +1) if ch.cost(m) < ch.cost(current)]
         evs = runs.evaluate(moves)
         better = sorted((ch.cost(m), m) for m, e in zip(moves, evs) if _feasible(e, target))
         if not better:
-            moves = _swaps(ch, current)
+            moves = swap_grades(ch, current)
             evs = runs.evaluate(moves)
             better = sorted((ch.cost(m), m) for m, e in zip(moves, evs) if _feasible(e, target))
             if not better:
@@ -179,7 +180,7 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         lin = solve_linear(ch, spec_arcmin, yield_target)
     except InputError:
         lin = LinearSolution(None, None, None, 0, False)
-    uniform = _uniform(ch)
+    uniform = uniform_grades(ch)
     with stop_requested() as stop:
         runs = _Runs(ch, model, int(samples), int(seed), float(spec_arcmin), specs, executor, workers, stop, progress)
         # the linear optimum and every uniform grade (the baseline) first; the search starts from the
@@ -215,7 +216,7 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
                     break
                 if check is not None:
                     y = check.yield_
-                    notes.append(f"candidate {_named(ch, cand)} failed verification: yield {y.fraction:.6f} "
+                    notes.append(f"candidate {named_grades(ch, cand)} failed verification: yield {y.fraction:.6f} "
                                  f"[{y.ci95_low:.6f}, {y.ci95_high:.6f}] on an independent stream")
     partial = runs.interrupted
     chosen = verified if verified is not None else (best if partial else None)
@@ -231,11 +232,11 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
                                                        f"allowed: a lower yield, a larger spec, or more samples (-n)")
     ev = runs.cache[chosen]
     label = (f"grades allocated by rvbacklash: P({output} <= {spec_arcmin:g} arcmin"
-             + _specs_text(specs or {}) + f") >= {yield_target:g}, {model} model")
-    design = ch.design(chosen, _description(problem, label))
-    points = [FrontPoint(ch.cost(c), e.yield_, _named(ch, c), "candidate", None, c == chosen)
+             + specs_text(specs or {}) + f") >= {yield_target:g}, {model} model")
+    design = ch.design(chosen, design_description(problem, label))
+    points = [FrontPoint(ch.cost(c), e.yield_, named_grades(ch, c), "candidate", None, c == chosen)
               for c, e in runs.cache.items()]
-    uni_points = tuple(FrontPoint(ch.cost(c), runs.cache[c].yield_, _named(ch, c), "uniform", None)
+    uni_points = tuple(FrontPoint(ch.cost(c), runs.cache[c].yield_, named_grades(ch, c), "uniform", None)
                        for _, c in uniform if c in runs.cache)
     feasible_uniform = sorted((ch.cost(c), g) for g, c in uniform if _feasible(runs.cache.get(c), yield_target))
     base = Baseline(feasible_uniform[0][1], feasible_uniform[0][0],
@@ -250,8 +251,8 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         before = before_ev.yield_ if before_ev is not None else None
     cost_before = sum(c.current_cost for c in ch.groups) if all(c.current_cost is not None for c in ch.groups) \
         else None
-    constraint = f"P({output} <= {spec_arcmin:g} arcmin" + _specs_text(specs or {}) + f") >= {yield_target:g}"
-    binding = _binding(constraint, ev.yield_, yield_target, ch, chosen)
+    constraint = f"P({output} <= {spec_arcmin:g} arcmin" + specs_text(specs or {}) + f") >= {yield_target:g}"
+    binding = binding_constraint(constraint, ev.yield_, yield_target, ch, chosen)
     if specs and ev.yields:
         worst = min(ev.yields.items(), key=lambda kv: kv[1].ci95_low)
         binding = Binding(f"{constraint}; tightest: {worst[0]}", ev.yield_.fraction, ev.yield_.ci95_low, yield_target,
@@ -264,9 +265,9 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         spec_arcmin=float(spec_arcmin), spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin,
         spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec, yield_target=float(yield_target), unit=ch.unit,
         cost=cost, cost_before=cost_before, yield_=ev.yield_,
-        yield_before=before, yields=dict(ev.yields), grades=_named(ch, chosen), groups=_groups_table(ch, chosen),
+        yield_before=before, yields=dict(ev.yields), grades=named_grades(ch, chosen), groups=groups_table(ch, chosen),
         binding=binding, baseline=base, saving=saving,
         saving_fraction=saving / base.cost if saving is not None and base.cost else None,
-        front=_front(points), uniform=uni_points, samples=int(samples), seed=int(seed), evaluations=runs.runs,
+        front=pareto_front(points), uniform=uni_points, samples=int(samples), seed=int(seed), evaluations=runs.runs,
         verification=verification, elapsed_s=time.perf_counter() - started, partial=partial, notes=tuple(notes),
         design=design)

@@ -44,7 +44,7 @@ def extra_specs(spec_rigidity_nm_per_arcmin: float | None, spec_preload_um: floa
                                      ("transmission_error", spec_te_arcsec)) if v is not None}
 
 
-def _specs_text(specs: Mapping[str, float]) -> str:
+def specs_text(specs: Mapping[str, float]) -> str:
     words = {"rigidity": "rigidity >= {:g} N m/arcmin", "preload": "preload <= {:g} um",
              "transmission_error": "TE peak-to-peak <= {:g} arcsec"}
     return "".join(f", {words[k].format(v)}" for k, v in specs.items())
