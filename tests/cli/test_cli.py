@@ -1,6 +1,7 @@
 """End-to-end runs of the command line: outputs, one meaning per flag, one-line errors."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -196,3 +197,21 @@ def test_contact_of_a_preloaded_design_is_reported_not_crashed(tmp_path, rv80e_t
     p = run_cli("report", f, "-n", "20000", "-o", tmp_path / "r.html")
     assert p.returncode == 0, p.stderr
     assert "preloaded" in (tmp_path / "r.html").read_text()
+
+
+def test_every_model_flag_lists_every_model():
+    """Regression: the help of `simulate --model` (and compare's, report's) left out transmission;
+    every --model / --allocate-model help names every model the commands accept."""
+    import typer
+
+    from rvbacklash.analysis.simulation import MODELS
+    from rvbacklash.cli.entry import app
+
+    seen = []
+    for name, command in typer.main.get_command(app).commands.items():
+        for param in getattr(command, "params", []):
+            if {"--model", "--allocate-model"} & set(getattr(param, "opts", ())):
+                words = set(re.findall(r"[a-z]+", param.help))
+                assert set(MODELS) <= words, (name, param.opts, set(MODELS) - words)
+                seen.append(name)
+    assert sorted(seen) == ["allocate", "compare", "report", "report", "sensitivity", "simulate"]

@@ -18,8 +18,9 @@ from rvbacklash.cli.common import (DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, QUI
 @command
 def sensitivity(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    model: str = typer.Option("linear", "--model", help="linear | contact | elastic: the model whose output is "
-                                                        "attributed (each factor drawn from its own random stream)."),
+    model: str = typer.Option("linear", "--model", help="linear | contact | elastic | transmission: the model whose "
+                                                        "output is attributed (each factor drawn from its own random "
+                                                        "stream)."),
     output: Optional[str] = typer.Option(None, "--output", help="Output to attribute: backlash, lost_motion, "
                                                                 "rigidity, ... (default: the model's first)."),
     samples: str = typer.Option("16384", "--samples", "-n", help="Units per sample set N, a power of two (the "

@@ -228,10 +228,11 @@ def report(
     yield_target: Optional[float] = typer.Option(None, "--yield", help="Target yield of --allocate: the share of "
                                                                        "units that must meet the spec, 0.5 < P < 1."),
     allocate_model: Optional[str] = typer.Option(None, "--allocate-model", help="Model of --allocate: linear (exact, "
-                                                 "seconds; the rigid stack-up, conservative), contact or elastic "
-                                                 "(Monte-Carlo per candidate, minutes to hours); default: --model."),
+                                                 "seconds; the rigid stack-up, conservative), contact, elastic or "
+                                                 "transmission (Monte-Carlo per candidate, minutes to hours); default: "
+                                                 "--model."),
     allocate_samples: str = typer.Option("65536", "--allocate-samples", help="Monte-Carlo samples per candidate "
-                                         "of --allocate with the contact or elastic model (e.g. 2000 for a quick "
+                                         "of --allocate with a Monte-Carlo model (e.g. 2000 for a quick "
                                          "look, yields within about +-1 %)."),
     sweep: Optional[Path] = typer.Option(None, "--sweep", help="Add a finished sweep's results (the --out DIR of "
                                                                "`rvbacklash sweep`).", metavar="DIR"),

@@ -72,7 +72,10 @@ SPEC_PRELOAD_OPTION = typer.Option(None, "--spec-preload-um",
 METHOD_OPTION = typer.Option("default", "--method", help="default | box-muller | sobol | exact (linear model only).")
 MODEL_OPTION = typer.Option("linear", "--model", help="linear (Eq. (2)) | contact (exact cycloid-pin contact, per-part "
                                                       "errors; docs/contact.md) | elastic (the test bench's hysteresis "
-                                                      "loop: lost motion, backlash, rigidity; docs/elastic.md).")
+                                                      "loop: lost motion, backlash, rigidity; docs/elastic.md) | "
+                                                      "transmission (the contact model's units turned through one output "
+                                                      "revolution: TE peak-to-peak, backlash, largest lost motion; "
+                                                      "docs/transmission-error.md).")
 ERROR_MODEL_OPTION = typer.Option(None, "--error-model", help="contact/elastic models: long_wave (harmonics plus "
                                   "a per-element part, the default) | independent (every element on its own, the "
                                   "pessimistic bound); default: the design's [contact] error_model.")
