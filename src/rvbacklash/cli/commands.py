@@ -280,19 +280,24 @@ def report(
     rows = data.rows()
     out.finish({"--output": lambda: render_html(data), "--json": lambda: render_json(data.to_dict()),
                 "--csv": lambda: render_csv(rows)},
-               lambda: _print_key_numbers(summary["key_numbers"], data.partial), summary, rows)
+               lambda: _print_key_numbers(summary["key_numbers"], data.partial, data.model), summary, rows)
     if data.partial:
         raise typer.Exit(130)
 
 
-def _print_key_numbers(numbers: dict, partial: bool) -> None:
-    """The report's key numbers, one per line (the files written follow)."""
+def _print_key_numbers(numbers: dict, partial: bool, model: str) -> None:
+    """The report's key numbers, one per line, in their order (the chosen model's first); with a
+    model other than the linear one, a line marks where the linear stack-up that explains its
+    figures begins (the files written follow)."""
     console = stdout_console()
     if partial:
         console.print("[bold red]PARTIAL: interrupted; the report shows what was finished[/]")
     width = max(map(len, numbers), default=0)
+    console.print(f"{model} model:", highlight=False, markup=False)
     for name, value in numbers.items():
-        console.print(f"{name:<{width}}  {value:.6g}" if isinstance(value, float) else f"{name:<{width}}  {value}",
+        if model != "linear" and name == "design.ratio":
+            console.print("linear stack-up (explains the figures above):", highlight=False, markup=False)
+        console.print(f"  {name:<{width}}  {value:.6g}" if isinstance(value, float) else f"  {name:<{width}}  {value}",
                       highlight=False, markup=False)
 
 
