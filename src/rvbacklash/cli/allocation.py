@@ -26,9 +26,9 @@ def sensitivity(
     samples: str = typer.Option("16384", "--samples", "-n", help="Units per sample set N, a power of two (the "
                                                                  "model runs N (D + 2) times for D factors)."),
     seed: int = SEED_OPTION,
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the indices"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the bar chart (first order beside total, "
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the indices"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write the bar chart (first order beside total, "
                                                              "95 % intervals) as SVG to FILE.", metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
@@ -77,12 +77,12 @@ def allocate(
                                                    help="Also require the transmission error's peak-to-peak over one "
                                                         "output revolution <= X [arcsec]; turns --model contact into "
                                                         "--model transmission (docs/transmission-error.md)."),
-    write_design: Optional[Path] = typer.Option(None, "--write-design", metavar="FILE",
+    write_design: Optional[str] = typer.Option(None, "--write-design", metavar="FILE",
                                                 help="Write the chosen design (its grades set) as a TOML design "
                                                      "file that simulate re-runs."),
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the cost-yield Pareto front"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the cost-yield Pareto front as SVG to FILE.",
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the cost-yield Pareto front"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write the cost-yield Pareto front as SVG to FILE.",
                                         metavar="FILE"),
     samples: str = typer.Option("65536", "--samples", "-n", help="Samples per candidate (Monte-Carlo models)."),
     seed: int = SEED_OPTION,

@@ -80,7 +80,6 @@ ERROR_MODEL_OPTION = typer.Option(None, "--error-model", help="contact/elastic m
                                   "a per-element part, the default) | independent (every element on its own, the "
                                   "pessimistic bound); default: the design's [contact] error_model.")
 WORKERS_OPTION = typer.Option(0, "--workers", help="Worker threads (0 = all cores); results do not depend on it.")
-PLOT_OPTION = typer.Option(None, "--plot", help="Write the figure as SVG to FILE.", metavar="FILE")
 
 
 def command(fn: Callable) -> Callable:
@@ -117,13 +116,15 @@ def workers_or_none(workers: int) -> Optional[int]:
 
 
 class Outputs:
-    """The files and the standard output of one command, checked before any work is done."""
+    """The files and the standard output of one command, checked before any work is done. The
+    paths come as the text typed (a trailing slash, which ``Path`` drops, names a directory)."""
 
-    def __init__(self, fmt: Format, force: bool, quiet: bool, **paths: Optional[Path]):
-        from rvbacklash.report.files import check_distinct, check_writable, is_stdout
+    def __init__(self, fmt: Format, force: bool, quiet: bool, **paths: Optional[str]):
+        from rvbacklash.report.files import check_distinct, check_writable, is_stdout, output_path
 
         self.fmt, self.force, self.quiet = fmt, force, quiet
-        self.paths = {f"--{name.replace('_', '-')}": p for name, p in paths.items() if p is not None}
+        self.paths = {option: output_path(option, text) for option, text in
+                      ((f"--{name.replace('_', '-')}", text) for name, text in paths.items()) if text is not None}
         check_distinct(self.paths)
         to_stdout = [o for o, p in self.paths.items() if is_stdout(p)]
         if to_stdout and fmt is not Format.table:

@@ -61,9 +61,9 @@ def transmission_error(
     positions: int = typer.Option(1024, "--positions", help="Output positions per revolution (at least 8 z_p + 1: "
                                                             "order 4 z_p resolved)."),
     load_direction: str = typer.Option("ccw", "--load-direction", help="Flank of the headline figures: ccw | cw."),
-    json_out: Optional[Path] = json_option("the figures, the curves and the spectrum"),
-    csv_out: Optional[Path] = csv_option("the curves (one row per output position)"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of the curves and the spectrum to FILE.",
+    json_out: Optional[str] = json_option("the figures, the curves and the spectrum"),
+    csv_out: Optional[str] = csv_option("the curves (one row per output position)"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG of the curves and the spectrum to FILE.",
                                         metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,

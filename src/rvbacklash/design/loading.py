@@ -13,6 +13,7 @@ from pydantic import BaseModel, ValidationError
 from rvbacklash.design.bounds import bounds_text
 from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
+from rvbacklash.paths import is_file
 
 _EXAMPLES_PACKAGE = "rvbacklash.examples"
 
@@ -37,7 +38,7 @@ def _source_help() -> str:
 def read_design_text(source: str | Path) -> tuple[str, str]:
     """(TOML text, origin label) for a path or example name."""
     path = Path(source)
-    if path.is_file():
+    if is_file("design", source):
         try:
             return path.read_text(encoding="utf-8-sig"), str(path)  # -sig: a UTF-8 BOM is not content
         except (OSError, UnicodeDecodeError) as e:
