@@ -146,3 +146,5 @@ def test_ctrl_c_in_report_marks_every_output(tmp_path):
     assert d["metadata"]["partial"] is True and d["metadata"]["samples_done"] < d["metadata"]["samples"]
     assert d["comparison"]["partial"] is True and d["comparison"]["scenarios"] == []
     assert "partial" in d["warnings"][-1] or "interrupted" in d["warnings"][-1]
+    lines = csv.read_text().splitlines()  # the key numbers, each row marked
+    assert lines[0] == "key,value,partial" and len(lines) > 5 and all(x.endswith(",True") for x in lines[1:])

@@ -122,7 +122,8 @@ class ReportData(Result):
                 "sweep": d(self.sweep), "transmission": d(self.transmission)}
 
     def rows(self) -> list[dict]:
-        return [{"key": k, "value": v} for k, v in self.key_numbers().items()]
+        """The key numbers, each row marked ``partial`` when the report was interrupted."""
+        return [{"key": k, "value": v, "partial": self.partial} for k, v in self.key_numbers().items()]
 
     def summary(self) -> list[str]:
         return [f"report of {self.problem.name}" + (" [PARTIAL: interrupted]" if self.partial else "")] + \
