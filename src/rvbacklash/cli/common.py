@@ -161,11 +161,20 @@ def stdout_console():
 
 @contextlib.contextmanager
 def progress_bar(total: int | None, what: str = "sampling", note: str | None = None,
-                 enabled: bool = True) -> Iterator[Callable[[int], None] | None]:
-    """A rich progress bar on stderr when stderr is a terminal; else nothing. ``note`` is shown
-    until the first step finishes (e.g. a one-time compilation of kernels)."""
+                 enabled: bool = True) -> Iterator[Callable[[int], None]]:
+    """The progress callback of a long run: a rich progress bar on stderr when stderr is a
+    terminal. On any stream it tells ``rvbacklash.interrupt`` when the first work is finished:
+    from then on a Ctrl-C stops the run and keeps that work (partial results); before, there is
+    nothing to keep and a Ctrl-C ends the command at once. ``note`` is shown until the first step
+    finishes (e.g. a one-time compilation of kernels)."""
+    from rvbacklash.interrupt import mark_progress
+
+    def keep(done: int) -> None:
+        if done > 0:
+            mark_progress()
+
     if not enabled or total is None or not sys.stderr.isatty():
-        yield None
+        yield keep
         return
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn, TimeRemainingColumn
@@ -177,6 +186,7 @@ def progress_bar(total: int | None, what: str = "sampling", note: str | None = N
 
         def update(done: int) -> None:
             nonlocal started
+            keep(done)
             if not started:
                 bar.update(task, description=what)
                 started = True

@@ -149,6 +149,7 @@ def sweep(
     resumes; Ctrl-C keeps the finished points (docs/sweeps.md)."""
     import rvbacklash.api as api
     from rvbacklash.analysis.sweep import plan_sweep
+    from rvbacklash.interrupt import mark_progress
     from rvbacklash.report.files import render_csv, render_json
 
     if workers < 0:
@@ -158,6 +159,10 @@ def sweep(
     except InputError as e:
         raise _file_error(e, sweep_file) from None
     out_dir = out if out is not None else Path(plan.spec.name)
+    # a Ctrl-C in the sweep is always a stop request: its results directory and worker processes are
+    # closed in order, the finished points kept; they are on disk, so a second Ctrl-C stops at once
+    # (rvbacklash.interrupt)
+    mark_progress(on_disk=True)
     note = "sweep points" + (" (first contact-model runs compile kernels)" if plan.spec.model == "contact" else "")
     try:
         with _Bar(True, note) as progress:

@@ -21,6 +21,7 @@ from typing import Any, Iterable, Mapping
 from rvbacklash._version import SCHEMA_VERSION, __version__
 from rvbacklash.atomic import atomic_write  # noqa: F401 - part of this module's interface
 from rvbacklash.errors import InputError
+from rvbacklash.interrupt import writing
 from rvbacklash.paths import is_dir, is_symlink, path_stat
 from rvbacklash.results import plain
 
@@ -112,14 +113,15 @@ def write_files(contents: Mapping[str, tuple[Path, str | bytes]], force: bool = 
     check_distinct({option: path for option, (path, _) in contents.items()})
     for option, (path, _) in contents.items():
         check_writable(option, path, force)
-    for option, (path, content) in contents.items():
-        if is_stdout(path):
-            if isinstance(content, bytes):
-                sys.stdout.buffer.write(content)
+    with writing():  # a Ctrl-C lets every file of the command be written first (rvbacklash.interrupt)
+        for option, (path, content) in contents.items():
+            if is_stdout(path):
+                if isinstance(content, bytes):
+                    sys.stdout.buffer.write(content)
+                else:
+                    sys.stdout.write(content)
+                sys.stdout.flush()
             else:
-                sys.stdout.write(content)
-            sys.stdout.flush()
-        else:
-            atomic_write(option, target(option, path), content)
+                atomic_write(option, target(option, path), content)
 
 
