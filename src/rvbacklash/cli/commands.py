@@ -422,13 +422,16 @@ class SchemaOutput(str, Enum):
     allocate = "allocate"
     sensitivity = "sensitivity"
     sweep = "sweep"
+    transmission_error = "transmission-error"
+    contact = "contact"
 
 
 @app.command()
 @command
 def schema(output: Optional[SchemaOutput] = typer.Option(
         None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
-                               "hysteresis, allocate, sensitivity, sweep); its schema_version is in CHANGELOG.md.")
+                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact); its "
+                               "schema_version is in CHANGELOG.md.")
            ) -> None:
     """Print the JSON schema of the design file, or of a command's JSON output (--output)."""
     from rvbacklash.report.files import render_json
