@@ -231,7 +231,8 @@ def sweep_plot(
     contents: dict[str, tuple[Path, str]] = {"--plot": (target, svg)}
     if html is not None:
         rest = [f for f in default_figures(result) if not f[0].startswith(fig + " ")]
-        contents["--html"] = (files["--html"], render_sweep_html(result, [(f"{fig} over {x_path}, {y_path}", svg), *rest]))
+        contents["--html"] = (files["--html"],
+                              render_sweep_html(result, [(f"{fig} over {x_path}, {y_path}", svg), *rest]))
     write_files(contents, True)
     if not quiet:
         best = result.best(fig)

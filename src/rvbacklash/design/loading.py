@@ -130,6 +130,11 @@ def validation_to_input_error(err: ValidationError, model: type[BaseModel]) -> I
         value = first.get("input")
         return InputError(field, allowed=allowed) if isinstance(value, dict) else InputError(field, value, allowed)
     msg = first["msg"].removeprefix("Value error, ")
+    cause = (first.get("ctx") or {}).get("error")
+    if isinstance(cause, InputError):  # a rule over several fields that names the one it refuses
+        name = cause.field if field == "design" else f"{field}.{cause.field}"
+        return InputError(name, cause.value, cause.allowed + more) if cause.has_value else \
+            InputError(name, allowed=cause.allowed + more)
     if info is None or isinstance(first.get("input"), dict):  # a rule over several fields: the message names them
         return InputError(field, allowed=msg + more)
     rng = _allowed_range(info)
