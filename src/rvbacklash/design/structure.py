@@ -55,14 +55,11 @@ motion of 4.5e11 arcmin. A design is refused (field, value, allowed range) outsi
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rvbacklash.errors import InputError
-
-if TYPE_CHECKING:  # the Design holds this table: type hints only, no import cycle
-    from rvbacklash.design.schema import Design
 
 DEPTH_RATIO_MIN = 1.0  # a beam at least as long as its section is deep (Cowper 1968)
 SLENDERNESS_MAX = 20.0  # length over diameter or section side: a plausibility limit (real parts: 1-3)
@@ -175,9 +172,10 @@ def _ratio(field: str, size: float, length_field: str, length: float, what: str,
     raise InputError(field, size, f"{what} = {length / size:.4g} ({length_field} = {length:g}); allowed: {allowed}")
 
 
-def check_structure(design: "Design") -> None:
-    """The [structure] table against the rest of the design (module docstring, "Validity"); an
-    InputError names the field by its path in the design."""
+def check_structure(design) -> None:
+    """The [structure] table of ``design`` (a ``Design``, whose validator calls this: design/schema.py
+    imports this module, not the other way round) against the rest of the design (module
+    docstring, "Validity"); an InputError names the field by its path in the design."""
     st = design.structure
     if st is None:
         return
