@@ -60,13 +60,10 @@ class ReportData(Result):
                             "elastic.nominal.torsional_rigidity_nm_per_arcmin": n.torsional_rigidity_nm_per_arcmin})
         if self.transmission is not None:
             nominal["transmission.nominal.te_peak_to_peak_arcsec"] = self.transmission.nominal.te_peak_to_peak_arcsec
+        allocation = {"allocation.cost": self.allocation.cost} if self.allocation is not None else {}
         if self.model == "linear":
-            out = {**linear, **run, **self.model_numbers(), **nominal}
-        else:
-            out = {**self.model_numbers(), **run, **nominal, **linear}
-        if self.allocation is not None:
-            out["allocation.cost"] = self.allocation.cost
-        return out
+            return {**linear, **run, **self.model_numbers(), **allocation, **nominal}
+        return {**self.model_numbers(), **run, **nominal, **allocation, **linear}
 
     @property
     def model(self) -> str:
