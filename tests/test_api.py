@@ -52,6 +52,20 @@ def test_library_errors_name_python_parameters():
     assert e.value.field == "crank_angle_deg"
 
 
+def test_a_report_allocates_with_every_model_allocate_has():
+    """Regression: `report --allocate-model` refused transmission, which `allocate --model` takes
+    (and its help now lists): the check passes it, and the next one speaks."""
+    from rvbacklash.analysis.simulation import MODELS
+
+    for model in MODELS:
+        with pytest.raises(rb.InputError) as e:
+            rb.make_report("rv80e", allocate=True, allocate_model=model, yield_target=0.9)
+        assert e.value.field == "spec_arcmin", (model, str(e.value))
+    with pytest.raises(rb.InputError) as e:
+        rb.make_report("rv80e", allocate=True, allocate_model="gears", yield_target=0.9)
+    assert str(e.value) == "allocate_model = 'gears': allowed: linear, contact, elastic or transmission"
+
+
 def test_py_typed_is_shipped():
     from importlib.resources import files
 

@@ -200,8 +200,8 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     problem = prepare(design)
-    if allocate_model is not None and allocate_model not in ("linear", "contact", "elastic"):
-        raise InputError("allocate_model", allocate_model, "allowed: linear, contact or elastic")
+    if allocate_model is not None and allocate_model not in ("linear", "contact", "elastic", "transmission"):
+        raise InputError("allocate_model", allocate_model, "allowed: linear, contact, elastic or transmission")
     if allocate_model is not None and not allocate:
         raise InputError("allocate_model", allocate_model, "allowed with allocate only")
     if allocate and (spec_arcmin is None or yield_target is None):

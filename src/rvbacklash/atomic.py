@@ -8,12 +8,18 @@ import tempfile
 from pathlib import Path
 
 from rvbacklash.errors import InputError
+from rvbacklash.interrupt import writing
 
 
 def atomic_write(field: str, path: Path, content: str | bytes) -> None:
     """Write ``content`` to ``path`` through a temporary sibling and ``os.replace``; text as UTF-8
     without newline translation. An OSError becomes an InputError naming ``field`` (the parameter
     or flag that gave the path)."""
+    with writing():  # a Ctrl-C waits for the rename (rvbacklash.interrupt): no temporary file is left behind
+        _write(field, path, content)
+
+
+def _write(field: str, path: Path, content: str | bytes) -> None:
     mode = "wb" if isinstance(content, bytes) else "w"
     parent = path.parent if str(path.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent)

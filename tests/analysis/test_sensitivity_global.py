@@ -171,6 +171,7 @@ def test_interrupted_run_keeps_the_finished_blocks(rv80e_problem):
     d = int(rv80e_problem.random_mask.sum())
     r = global_sensitivity(rv80e_problem, samples=2 * BLOCK, seed=2, resamples=200, executor=StopAfter(d + 2 + 3))
     assert r.partial and r.samples == BLOCK and r.notes
+    assert [row["partial"] for row in r.rows()] == [True] * len(r.groups)  # the CSV says so on every row
     full = global_sensitivity(rv80e_problem, samples=BLOCK, seed=2, resamples=200)
     assert [g.first for g in r.groups] == [g.first for g in full.groups]  # block 0 is the same numbers
 

@@ -234,3 +234,19 @@ def test_streams_of_one_seed_are_independent_and_reproducible(sun2014_problem):
     assert block_generator(3, 0, (7,)).random() != block_generator(3, 0).random()
     with pytest.raises(InputError, match="stream"):
         simulate(sun2014_problem, samples=10, stream=(-1,))
+
+
+def test_every_csv_row_says_whether_the_run_was_interrupted():
+    """Regression: an interrupted `simulate --csv` (transmission, elastic models) wrote a CSV with
+    no partial mark though the JSON and the table said PARTIAL. Every row has a `partial` column,
+    as compare's CSV does (a column: pandas and spreadsheets read it as data; a comment line
+    would be a data row to Excel and an error to pandas.read_csv)."""
+    import dataclasses
+
+    from rvbacklash.report.files import render_csv
+
+    sim = simulate(prepare(design_from_toml(example_text("rv80e"))), samples=2000, seed=1, spec_arcmin=3.0)
+    assert [r["partial"] for r in sim.rows()] == [False] * len(sim.rows())
+    stopped = dataclasses.replace(sim, partial=True)
+    lines = render_csv(stopped.rows()).splitlines()
+    assert lines[0].split(",")[-1] == "partial" and all(line.endswith(",True") for line in lines[1:])

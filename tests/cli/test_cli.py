@@ -1,6 +1,7 @@
 """End-to-end runs of the command line: outputs, one meaning per flag, one-line errors."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -196,3 +197,59 @@ def test_contact_of_a_preloaded_design_is_reported_not_crashed(tmp_path, rv80e_t
     p = run_cli("report", f, "-n", "20000", "-o", tmp_path / "r.html")
     assert p.returncode == 0, p.stderr
     assert "preloaded" in (tmp_path / "r.html").read_text()
+
+
+def test_every_model_flag_lists_every_model():
+    """Regression: the help of `simulate --model` (and compare's, report's) left out transmission;
+    every --model / --allocate-model help names every model the commands accept."""
+    import typer
+
+    from rvbacklash.analysis.simulation import MODELS
+    from rvbacklash.cli.entry import app
+
+    seen = []
+    for name, command in typer.main.get_command(app).commands.items():
+        for param in getattr(command, "params", []):
+            if {"--model", "--allocate-model"} & set(getattr(param, "opts", ())):
+                words = set(re.findall(r"[a-z]+", param.help))
+                assert set(MODELS) <= words, (name, param.opts, set(MODELS) - words)
+                seen.append(name)
+    assert sorted(seen) == ["allocate", "compare", "report", "report", "sensitivity", "simulate"]
+
+
+LONG = "x" * 300  # longer than any file system's NAME_MAX (255 bytes on Linux, macOS, Windows)
+
+
+@pytest.mark.parametrize("args, flag", [
+    (["analyze", "sun2014", "--json", "{d}/" + LONG + ".json"], "--json"),
+    (["analyze", "sun2014", "--csv", "{d}/" + LONG], "--csv"),
+    (["contact", "rv80e", "--plot", "{d}/" + LONG + "/c.svg"], "--plot"),
+    (["report", "rv80e", "-n", "1000", "-o", "{d}/" + LONG], "--output"),
+    (["simulate", "rv80e", "--model", "contact", "-n", "1000", "--save-units", "2", "{d}/" + LONG], "--save-units"),
+    (["contact", "rv80e", "--measured", "{d}/" + LONG + ".toml"], "--measured"),
+    (["allocate", "rv80e", "--spec-arcmin", "3", "--yield", "0.9", "--write-design", "{d}/" + LONG], "--write-design"),
+    (["sweep", "modifications-sweep", "--out", "{d}/" + LONG], "--out"),
+    (["sweep", "{d}/" + LONG + ".toml"], "sweep"),
+    (["analyze", "{d}/" + LONG + ".toml"], "design"),
+])
+def test_a_file_name_too_long_is_one_line(tmp_path, args, flag):
+    """Regression: a name longer than the file system allows crashed every command that takes a
+    path (OSError: File name too long, exit 1); now one line naming the flag, exit 2, nothing written."""
+    line = one_line_error(run_cli(*[a.format(d=tmp_path) for a in args]), f"error: {flag} = ")
+    assert "file name too long (30" in line and "at most 255 bytes" in line
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("args, flag", [
+    (["transmission-error", "rv80e", "--positions", "400", "--json", "newdir/"], "--json"),
+    (["hysteresis", "rv80e", "--plot", "newdir2/"], "--plot"),
+    (["report", "rv80e", "-n", "1000", "-o", "newdir3/"], "--output"),
+    (["analyze", "sun2014", "--csv", "./"], "--csv"),
+])
+def test_a_trailing_slash_names_a_directory_not_a_file(tmp_path, monkeypatch, args, flag):
+    """Regression: `--json newdir/` for a folder that does not exist wrote a *file* named newdir
+    and exited 0 (pathlib drops the slash)."""
+    monkeypatch.chdir(tmp_path)
+    line = one_line_error(run_cli(*args), f"error: {flag} = '{args[-1]}': ends in a slash, which names a directory")
+    assert "allowed: a file path" in line
+    assert list(tmp_path.iterdir()) == []

@@ -146,3 +146,21 @@ def test_save_units_needs_at_least_one_unit(tmp_path):
     one_line_error(run_cli("simulate", "rv80e", "--model", "contact", "-n", "100", "--save-units", "0",
                            tmp_path / "x.toml"), "error: --save-units = 0")
     assert not (tmp_path / "x.toml").exists()
+
+
+def test_report_summary_leads_with_the_chosen_model(tmp_path):
+    """Regression: `report rv80e --model elastic` printed the linear stack-up's figures first
+    (total.mean_arcmin 2.105 ...) before the elastic production run; the page leads with the
+    elastic figures, and so do the terminal, the JSON's key_numbers and the CSV."""
+    js, csv_out = tmp_path / "r.json", tmp_path / "r.csv"
+    p = run_cli("report", "rv80e", "--model", "elastic", "-n", "2000", "-o", tmp_path / "r.html", "--json", js,
+                "--csv", csv_out)
+    assert p.returncode == 0, p.stderr
+    lines = [line.strip() for line in p.stdout.splitlines()]
+    assert lines[0] == "elastic model:" and lines[1].split()[0] == "simulation.lost_motion.mean"
+    assert lines.index("linear stack-up (explains the figures above):") < \
+        next(k for k, line in enumerate(lines) if line.startswith("total.mean_arcmin"))
+    keys = list(json.loads(js.read_text())["key_numbers"])
+    assert keys[:2] == ["simulation.lost_motion.mean", "simulation.lost_motion.q99865"]
+    assert keys.index("elastic.nominal.lost_motion_arcmin") < keys.index("total.mean_arcmin")
+    assert csv_out.read_text().splitlines()[1].startswith("simulation.lost_motion.mean,")

@@ -34,6 +34,19 @@ def test_nominal_curve_json_csv_plot(tmp_path):
     assert (tmp_path / "te.svg").read_text().lstrip().startswith("<")
 
 
+def test_the_error_free_unit_has_no_table_of_noise(tmp_path):
+    """Regression: `transmission-error rv80e` listed 'leading orders' 512, 511, 510 ... all 0.000
+    (the sorted zeros of the error-free unit's spectrum); it says instead that there is none."""
+    p = run_cli("transmission-error", "rv80e", "--positions", "400", "--json", tmp_path / "te.json")
+    assert p.returncode == 0, p.stderr
+    text = " ".join(p.stdout.split())
+    assert "Leading orders" not in text and "no spectrum: TE is measured from the error-free unit" in text
+    data = json.loads((tmp_path / "te.json").read_text())
+    assert f"{data['nominal_ripple_arcsec']:.3f} arcsec peak-to-peak" in text  # the modifications' ripple: not TE
+    assert data["nominal_ripple_arcsec"] > 0.01
+    assert data["leading_orders"] == [] and max(data["spectrum_amplitude_arcsec"]) == 0.0
+
+
 def test_measured_unit_with_kinematics(tmp_path):
     design = load_design("rv80e")
     text = UNIT.format(pins=", ".join(["1.0"] * design.second_stage.pins))
@@ -46,6 +59,10 @@ def test_measured_unit_with_kinematics(tmp_path):
     assert p.returncode == 0, p.stderr
     data = json.loads((tmp_path / "u.json").read_text())
     assert data["te_peak_to_peak_arcsec"] > 0.1
+    lines = data["leading_orders"]  # real lines only, largest first
+    assert lines and all(x["amplitude_arcsec"] > 1e-3 for x in lines)
+    assert [x["amplitude_arcsec"] for x in lines] == sorted((x["amplitude_arcsec"] for x in lines), reverse=True)
+    assert "Leading orders" in p.stdout
     groups = {g["group"] for g in data["group_shares"]}
     assert {"crank holes (disc, carrier)", "involute stage (gear eccentricities)"} <= groups
 

@@ -208,6 +208,11 @@ def test_each_model_leads_with_its_own_figures(model_reports):
             assert set(section["quantile_units"]) == {"5 %", "95 %"} and section["spec_te_arcsec"] == 60.0
             low, high = (section["quantile_units"][k]["te_peak_to_peak_arcsec"] for k in ("5 %", "95 %"))
             assert 0 < low < high
+            # the nominal unit's TE is 0 by definition: no table of zero lines, the spectrum drawn is the 95 % unit's
+            assert section["nominal"]["leading_orders"] == []
+            assert all(len(u["leading_orders"]) == 8 and min(x["amplitude_arcsec"] for x in u["leading_orders"]) > 1e-3
+                       for u in section["quantile_units"].values())
+            assert "the amplitude spectrum of the unit at 95 %" in text and "spectrum, unit " in text
         else:
             assert 'id="transmission-error"' not in text
         assert data["metadata"]["model"] == model and data["schema_version"]

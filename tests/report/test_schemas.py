@@ -30,6 +30,8 @@ def _outputs():
         "allocate": rb.allocate(p, spec_arcmin=3.0, yield_target=0.99, pareto=False),
         "sensitivity": rb.sensitivity(p, samples=64, resamples=100),
         "sweep": sweep,
+        "transmission-error": rb.transmission_error(p, positions=400),
+        "contact": rb.contact(p),
     }
 
 
@@ -39,7 +41,54 @@ def outputs():
 
 
 def test_every_listed_output_has_a_schema():
-    assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep"}
+    from rvbacklash.cli.commands import SchemaOutput
+
+    assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
+                            "transmission-error", "contact"}
+    assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
+
+
+def test_the_commands_without_a_schema_are_known():
+    """Every command that writes JSON (--json) has its schema but these, whose JSON is shaped by
+    hand (compare, report) or in the command (the tolerance tables): a new command is caught."""
+    import typer
+
+    from rvbacklash.cli.entry import app
+
+    def commands(group, prefix=""):
+        for name, c in group.commands.items():
+            yield from commands(c, f"{name} ") if hasattr(c, "commands") else [(prefix + name, c)]
+
+    with_json = {name for name, c in commands(typer.main.get_command(app))
+                 if any("--json" in getattr(p, "opts", ()) for p in c.params)}
+    assert with_json - set(OUTPUTS) == {"compare", "report", "tolerance iso1328", "tolerance iso286"}
+
+
+def test_transmission_error_and_contact_json_validate(tmp_path, rv80e):
+    """Regression: `schema --output` had no transmission-error or contact although both commands
+    write versioned JSON: their files, as the commands write them, validate against it (contact
+    with one unit and with every unit of a measured-unit file)."""
+    units = tmp_path / "units.toml"
+    pins = ", ".join(["1.0"] * rv80e.second_stage.pins)
+    units.write_text(f"[[unit]]\n[unit.pins]\nradius_um = [{pins}]\n" * 2)
+    runs = {"transmission-error": [["transmission-error", "rv80e", "--positions", "400"]],
+            "contact": [["contact", "rv80e"], ["contact", "rv80e", "--measured", units]]}
+    for output, commands in runs.items():
+        s = run_cli("schema", "--output", output)
+        assert s.returncode == 0, s.stderr
+        schema = json.loads(s.stdout)
+        jsonschema.Draft202012Validator.check_schema(schema)
+        for k, args in enumerate(commands):
+            out = tmp_path / f"{output}{k}.json"
+            p = run_cli(*args, "--json", out, "-q")
+            assert p.returncode == 0, p.stderr
+            data = json.loads(out.read_text())
+            jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
+            if "units" in data:
+                assert len(data["units"]) == 2
+            data["unexpected"] = 1  # the schema is closed: a field it does not know is refused
+            with pytest.raises(jsonschema.ValidationError):
+                jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
 
 
 @pytest.mark.parametrize("name", sorted(OUTPUTS))

@@ -39,29 +39,31 @@ class ReportData(Result):
                                                                                        self.allocation))
 
     def key_numbers(self) -> dict:
-        """The numbers the page marks, by the JSON path they have in ``to_dict``."""
+        """The numbers the page marks, by the JSON path they have in ``to_dict``, the chosen model's
+        first (as the page's first screen): for the linear model its stack-up (``total.*``) and
+        run; for the others their run's figures, then the nominal unit's, then the linear stack-up
+        that explains them (``design.*``, ``total.*``)."""
         t, s = self.stackup.total, self.simulation
-        out = {
-            "design.ratio": self.stackup.geometry.ratio, "design.K1": self.stackup.geometry.K1,
-            "total.mean_arcmin": t.mean_arcmin, "total.sigma_arcmin": t.sigma_arcmin,
-            "total.plus3sigma_arcmin": t.plus3sigma_arcmin, "total.worst_case_arcmin": t.worst_case_arcmin,
-            "total.rss_arcmin": t.rss_arcmin,
-            "simulation.mean_arcmin": s.mean_arcmin, "simulation.sigma_arcmin": s.sigma_arcmin,
-            "simulation.q99865_arcmin": s.quantiles.at(0.99865).value,
-        }
+        linear = {"design.ratio": self.stackup.geometry.ratio, "design.K1": self.stackup.geometry.K1,
+                  "total.mean_arcmin": t.mean_arcmin, "total.sigma_arcmin": t.sigma_arcmin,
+                  "total.plus3sigma_arcmin": t.plus3sigma_arcmin, "total.worst_case_arcmin": t.worst_case_arcmin,
+                  "total.rss_arcmin": t.rss_arcmin}
+        run = {"simulation.mean_arcmin": s.mean_arcmin, "simulation.sigma_arcmin": s.sigma_arcmin,
+               "simulation.q99865_arcmin": s.quantiles.at(0.99865).value}
         if s.yield_ is not None:
-            out["simulation.yield"] = s.yield_.fraction
-        out.update(self.model_numbers())
-        if self.allocation is not None:
-            out["allocation.cost"] = self.allocation.cost
+            run["simulation.yield"] = s.yield_.fraction
+        nominal = {}
         if self.elastic is not None:
             n = self.elastic.nominal
-            out.update({"elastic.nominal.lost_motion_arcmin": n.lost_motion_arcmin,
-                        "elastic.nominal.backlash_arcmin": n.backlash_arcmin,
-                        "elastic.nominal.torsional_rigidity_nm_per_arcmin": n.torsional_rigidity_nm_per_arcmin})
+            nominal.update({"elastic.nominal.lost_motion_arcmin": n.lost_motion_arcmin,
+                            "elastic.nominal.backlash_arcmin": n.backlash_arcmin,
+                            "elastic.nominal.torsional_rigidity_nm_per_arcmin": n.torsional_rigidity_nm_per_arcmin})
         if self.transmission is not None:
-            out["transmission.nominal.te_peak_to_peak_arcsec"] = self.transmission.nominal.te_peak_to_peak_arcsec
-        return out
+            nominal["transmission.nominal.te_peak_to_peak_arcsec"] = self.transmission.nominal.te_peak_to_peak_arcsec
+        allocation = {"allocation.cost": self.allocation.cost} if self.allocation is not None else {}
+        if self.model == "linear":
+            return {**linear, **run, **self.model_numbers(), **allocation, **nominal}
+        return {**self.model_numbers(), **run, **nominal, **allocation, **linear}
 
     @property
     def model(self) -> str:
@@ -117,7 +119,8 @@ class ReportData(Result):
                 "sweep": d(self.sweep), "transmission": d(self.transmission)}
 
     def rows(self) -> list[dict]:
-        return [{"key": k, "value": v} for k, v in self.key_numbers().items()]
+        """The key numbers, each row marked ``partial`` when the report was interrupted."""
+        return [{"key": k, "value": v, "partial": self.partial} for k, v in self.key_numbers().items()]
 
     def summary(self) -> list[str]:
         return [f"report of {self.problem.name}" + (" [PARTIAL: interrupted]" if self.partial else "")] + \

@@ -191,7 +191,8 @@ class SensitivityResult(Result):
         return float(sum(g.first for g in self.groups))
 
     def rows(self) -> list[dict]:
-        return [g.to_dict() for g in self.groups]
+        """One row per input, each marked ``partial`` when the run was interrupted."""
+        return [{**g.to_dict(), "partial": self.partial} for g in self.groups]
 
     def summary(self) -> list[str]:
         head = (f"{self.design_name}, {self.model} model, {self.output}: Sobol indices, N = {self.samples:,} "

@@ -162,6 +162,8 @@ class SimulationResult(Result):
         return self.samples_done / self.elapsed_s if self.samples_done and self.elapsed_s > 0 else None
 
     def rows(self) -> list[dict]:
+        """One row per statistic; every row says whether the run was interrupted (``partial``: a
+        column, as in compare's CSV, so that a spreadsheet or pandas reads it as data)."""
         out = [r for o in self.outputs.values() for r in o.rows()]
         if self.joint_yield is not None:
             y = self.joint_yield
@@ -170,7 +172,7 @@ class SimulationResult(Result):
         if self.preload_fraction is not None:
             out.append({"output": "cycloid stage", "statistic": "preloaded fraction", "value": self.preload_fraction,
                         "ci95_low": None, "ci95_high": None, "unit": ""})
-        return out
+        return [{**r, "partial": self.partial} for r in out]
 
     def summary(self) -> list[str]:
         run = "exact distribution" if self.method == "exact" else \

@@ -27,6 +27,7 @@ import json
 import math
 import os
 import shutil
+import stat
 import threading
 import time
 from dataclasses import dataclass, field
@@ -42,6 +43,7 @@ from rvbacklash.design.sweep_spec import (Scalar, SweepSource, SweepSpec, load_s
                                           sweep_points)
 from rvbacklash.errors import InputError
 from rvbacklash.interrupt import stop_requested
+from rvbacklash.paths import is_dir, path_stat
 from rvbacklash.problem import prepare
 from rvbacklash.results import Result, plain
 
@@ -291,10 +293,11 @@ class SweepStore:
 
     @staticmethod
     def check_out(out: Path) -> None:
-        if out.exists() and not out.is_dir():
+        found = path_stat("out", out)
+        if found is not None and not stat.S_ISDIR(found.st_mode):
             raise InputError("out", str(out), "is not a directory; allowed: a new or existing directory")
         parent = out.parent if str(out.parent) else Path(".")
-        if not out.exists() and not parent.is_dir():
+        if found is None and not is_dir("out", parent):
             raise InputError("out", str(out), f"its parent directory {str(parent)!r} does not exist")
 
     def _open(self, force: bool) -> None:

@@ -27,7 +27,12 @@ from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
 MAX_POSITIONS = 1 << 16
-LEADING_ORDERS = 8  # lines listed in the summary and the JSON
+LEADING_ORDERS = 8  # at most this many lines listed in the summary and the JSON
+# A spectral line below this is no line: 0.001 arcsec is ~0.4 nm at the rv80e pin circle, far below
+# what a bench resolves and far above the solver's tolerances (~1e-7 arcsec); the error-free unit's
+# spectrum is exactly 0 (TE is measured from it), and its sorted zeros once made a table of orders
+# 512, 511, ... at 0.000.
+SPECTRUM_FLOOR_ARCSEC = 1e-3
 LOAD_DIRECTIONS = ("ccw", "cw")
 ASSUMPTIONS = ("rigid bodies, no load; exact cycloid-pin geometry with every tooth and pin indexed as they meet; "
                "the discs placed on the cranks by a least-squares fit (needle-bearing clearances absorb the "
@@ -93,7 +98,7 @@ class TransmissionErrorResult(Result):
     lost_motion_reference_arcmin: float  # at the bench's reference position (theta = 0: the unit's crank angle)
     preloaded_positions: int  # positions where no rotation frees every pin (lost motion 0 there)
     nominal_ripple_arcsec: float  # peak-to-peak of the error-free unit's own flank curve (the modifications')
-    leading_orders: tuple[SpectralLine, ...]
+    leading_orders: tuple[SpectralLine, ...]  # the largest lines above SPECTRUM_FLOOR_ARCSEC (none: no spectrum)
     group_shares: tuple[GroupShare, ...]
     crank_angle_deg: float
     assumptions: str
@@ -114,13 +119,23 @@ class TransmissionErrorResult(Result):
                 for a, p, m, lm in zip(self.output_angle_deg, self.te_ccw_arcsec, self.te_cw_arcsec,
                                        self.lost_motion_arcmin)]
 
+    def no_spectrum(self) -> str | None:
+        """Why there is no line to list (None when there are lines)."""
+        if self.leading_orders:
+            return None
+        if self.te_peak_to_peak_arcsec == 0.0:
+            return (f"no spectrum: TE is measured from the error-free unit, so a unit without errors has TE 0 at every "
+                    f"position (the modifications' own ripple, {self.nominal_ripple_arcsec:.3f} arcsec peak-to-peak at "
+                    f"the mesh order z_c z_p, is not TE)")
+        return f"no spectral line above {SPECTRUM_FLOOR_ARCSEC:g} arcsec"
+
     def summary(self) -> list[str]:
         lines = ", ".join(f"{s.order}: {s.amplitude_arcsec:.2f}" for s in self.leading_orders[:5])
         out = [f"{self.design_name}, {self.unit}: TE ({self.load_direction}) peak-to-peak "
                f"{self.te_peak_to_peak_arcsec:.2f} arcsec over {self.positions} positions",
                f"lost motion {self.lost_motion_min_arcmin:.4f} .. {self.lost_motion_max_arcmin:.4f} arcmin "
                f"({self.lost_motion_reference_arcmin:.4f} at the reference position)",
-               f"leading orders [arcsec]: {lines}"]
+               f"leading orders [arcsec]: {lines}" if lines else self.no_spectrum()]
         if self.group_shares:
             out.append("variance share by group: " + ", ".join(f"{s.group} {s.variance_share:.0%}"
                                                                 for s in self.group_shares))
@@ -173,7 +188,8 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     main, other = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
     lm = (run.ccw_rad - run.cw_rad) * ARCMIN_PER_RAD
     spec = amplitude_spectrum(main)
-    lead = np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1
+    lead = [k for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1
+            if spec[k] > SPECTRUM_FLOOR_ARCSEC]
     out_shares = []
     if shares:
         var = float(np.var(main))

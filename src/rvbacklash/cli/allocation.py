@@ -18,16 +18,17 @@ from rvbacklash.cli.common import (DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, QUI
 @command
 def sensitivity(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    model: str = typer.Option("linear", "--model", help="linear | contact | elastic: the model whose output is "
-                                                        "attributed (each factor drawn from its own random stream)."),
+    model: str = typer.Option("linear", "--model", help="linear | contact | elastic | transmission: the model whose "
+                                                        "output is attributed (each factor drawn from its own random "
+                                                        "stream)."),
     output: Optional[str] = typer.Option(None, "--output", help="Output to attribute: backlash, lost_motion, "
                                                                 "rigidity, ... (default: the model's first)."),
     samples: str = typer.Option("16384", "--samples", "-n", help="Units per sample set N, a power of two (the "
                                                                  "model runs N (D + 2) times for D factors)."),
     seed: int = SEED_OPTION,
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the indices"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the bar chart (first order beside total, "
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the indices"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write the bar chart (first order beside total, "
                                                              "95 % intervals) as SVG to FILE.", metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
@@ -76,12 +77,12 @@ def allocate(
                                                    help="Also require the transmission error's peak-to-peak over one "
                                                         "output revolution <= X [arcsec]; turns --model contact into "
                                                         "--model transmission (docs/transmission-error.md)."),
-    write_design: Optional[Path] = typer.Option(None, "--write-design", metavar="FILE",
+    write_design: Optional[str] = typer.Option(None, "--write-design", metavar="FILE",
                                                 help="Write the chosen design (its grades set) as a TOML design "
                                                      "file that simulate re-runs."),
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the cost-yield Pareto front"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the cost-yield Pareto front as SVG to FILE.",
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the cost-yield Pareto front"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write the cost-yield Pareto front as SVG to FILE.",
                                         metavar="FILE"),
     samples: str = typer.Option("65536", "--samples", "-n", help="Samples per candidate (Monte-Carlo models)."),
     seed: int = SEED_OPTION,
@@ -108,7 +109,8 @@ def allocate(
         result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                               spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload,
                               spec_te_arcsec=spec_te_arcsec, samples=n, seed=seed, scheduler=scheduler, workers=threads, progress=progress)
-    data, rows = result.to_dict(), result.front_rows()
+    # every row of the Pareto front says whether the search was interrupted, as every other CSV
+    data, rows = result.to_dict(), [{**r, "partial": result.partial} for r in result.front_rows()]
     header = (f"Written by rvbacklash allocate ({problem.source}): {result.binding.constraint}, {result.model} model.\n"
               f"Cost {result.cost:.6g} {result.unit}"
               + (f" against {result.baseline.cost:.6g} for uniform grade {result.baseline.grade}"

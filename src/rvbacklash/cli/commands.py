@@ -11,7 +11,7 @@ import typer
 
 from rvbacklash.cli.app import app
 from rvbacklash.cli.common import (CONTACT_NOTE, DESIGN_HELP, ERROR_MODEL_OPTION, FORCE_OPTION, FORMAT_OPTION, METHOD_OPTION,
-                                   MODEL_OPTION, PLOT_OPTION, QUIET_OPTION, SAMPLES_OPTION, SEED_OPTION,
+                                   MODEL_OPTION, QUIET_OPTION, SAMPLES_OPTION, SEED_OPTION,
                                    SPEC_LOST_MOTION_OPTION, SPEC_OPTION, SPEC_PRELOAD_OPTION, SPEC_RIGIDITY_OPTION,
                                    WORKERS_OPTION, Format, Outputs, command, csv_option, json_option, parse_samples,
                                    progress_bar, stdout_console, workers_or_none)
@@ -23,8 +23,8 @@ from rvbacklash.errors import InputError
 @command
 def analyze(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the factor table"),
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the factor table"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
@@ -54,7 +54,7 @@ def simulate(
     quantile: list[float] = typer.Option([], "--quantile", help="Extra quantile to report (0 < p < 1); repeatable."),
     workers: int = WORKERS_OPTION,
     error_model: Optional[str] = ERROR_MODEL_OPTION,
-    save_units: Optional[tuple[int, Path]] = typer.Option(
+    save_units: Optional[tuple[int, str]] = typer.Option(
         None, "--save-units", help="Write the first N units with their errors to FILE (TOML, the measured-unit "
                                    "format; contact, elastic and transmission models: the transmission model's "
                                    "with their kinematic errors).", metavar="N FILE"),
@@ -62,8 +62,8 @@ def simulate(
     spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
     spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,
     spec_te_arcsec: Optional[float] = SPEC_TE_OPTION,
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the statistics"),
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
@@ -172,9 +172,9 @@ def compare(
     method: str = METHOD_OPTION,
     model: str = MODEL_OPTION,
     workers: int = WORKERS_OPTION,
-    json_out: Optional[Path] = json_option("the scenario table"),
-    csv_out: Optional[Path] = csv_option("the scenario table"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG overlay of the distributions to FILE.",
+    json_out: Optional[str] = json_option("the scenario table"),
+    csv_out: Optional[str] = csv_option("the scenario table"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG overlay of the distributions to FILE.",
                                         metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
@@ -210,7 +210,7 @@ def compare(
 @command
 def report(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    output: Path = typer.Option(..., "--output", "-o", help="The HTML file to write.", metavar="FILE"),
+    output: str = typer.Option(..., "--output", "-o", help="The HTML file to write.", metavar="FILE"),
     samples: str = SAMPLES_OPTION,
     seed: int = SEED_OPTION,
     spec_arcmin: Optional[float] = SPEC_OPTION,
@@ -229,16 +229,17 @@ def report(
     yield_target: Optional[float] = typer.Option(None, "--yield", help="Target yield of --allocate: the share of "
                                                                        "units that must meet the spec, 0.5 < P < 1."),
     allocate_model: Optional[str] = typer.Option(None, "--allocate-model", help="Model of --allocate: linear (exact, "
-                                                 "seconds; the rigid stack-up, conservative), contact or elastic "
-                                                 "(Monte-Carlo per candidate, minutes to hours); default: --model."),
+                                                 "seconds; the rigid stack-up, conservative), contact, elastic or "
+                                                 "transmission (Monte-Carlo per candidate, minutes to hours); default: "
+                                                 "--model."),
     allocate_samples: str = typer.Option("65536", "--allocate-samples", help="Monte-Carlo samples per candidate "
-                                         "of --allocate with the contact or elastic model (e.g. 2000 for a quick "
+                                         "of --allocate with a Monte-Carlo model (e.g. 2000 for a quick "
                                          "look, yields within about +-1 %)."),
     sweep: Optional[Path] = typer.Option(None, "--sweep", help="Add a finished sweep's results (the --out DIR of "
                                                                "`rvbacklash sweep`).", metavar="DIR"),
     workers: int = WORKERS_OPTION,
-    json_out: Optional[Path] = json_option("every number of the report"),
-    csv_out: Optional[Path] = csv_option("the key numbers"),
+    json_out: Optional[str] = json_option("every number of the report"),
+    csv_out: Optional[str] = csv_option("the key numbers"),
     fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
                                                               "written), json or csv (the key numbers)."),
     force: bool = FORCE_OPTION,
@@ -276,23 +277,29 @@ def report(
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
                                progress=progress)
-    summary = {"report": str(output.resolve()), **data.metadata(), "key_numbers": data.key_numbers()}
+    summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
+               "key_numbers": data.key_numbers()}
     rows = data.rows()
     out.finish({"--output": lambda: render_html(data), "--json": lambda: render_json(data.to_dict()),
                 "--csv": lambda: render_csv(rows)},
-               lambda: _print_key_numbers(summary["key_numbers"], data.partial), summary, rows)
+               lambda: _print_key_numbers(summary["key_numbers"], data.partial, data.model), summary, rows)
     if data.partial:
         raise typer.Exit(130)
 
 
-def _print_key_numbers(numbers: dict, partial: bool) -> None:
-    """The report's key numbers, one per line (the files written follow)."""
+def _print_key_numbers(numbers: dict, partial: bool, model: str) -> None:
+    """The report's key numbers, one per line, in their order (the chosen model's first); with a
+    model other than the linear one, a line marks where the linear stack-up that explains its
+    figures begins (the files written follow)."""
     console = stdout_console()
     if partial:
         console.print("[bold red]PARTIAL: interrupted; the report shows what was finished[/]")
     width = max(map(len, numbers), default=0)
+    console.print(f"{model} model:", highlight=False, markup=False)
     for name, value in numbers.items():
-        console.print(f"{name:<{width}}  {value:.6g}" if isinstance(value, float) else f"{name:<{width}}  {value}",
+        if model != "linear" and name == "design.ratio":
+            console.print("linear stack-up (explains the figures above):", highlight=False, markup=False)
+        console.print(f"  {name:<{width}}  {value:.6g}" if isinstance(value, float) else f"  {name:<{width}}  {value}",
                       highlight=False, markup=False)
 
 
@@ -305,9 +312,9 @@ def contact(
     measured: Optional[Path] = typer.Option(None, "--measured", help="A TOML file of measured units (docs/contact.md); "
                                             "default: the nominal design.", metavar="UNIT.toml"),
     unit: Optional[int] = typer.Option(None, "--unit", help="The unit of --measured to run (0-based); default: all."),
-    json_out: Optional[Path] = json_option(),
-    csv_out: Optional[Path] = csv_option("the per-disc table"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of disc 1, the pins and the first "
+    json_out: Optional[str] = json_option(),
+    csv_out: Optional[str] = csv_option("the per-disc table"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG of disc 1, the pins and the first "
                                                              "contacts to FILE.", metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
@@ -349,8 +356,8 @@ def tolerance_iso1328(
     diameter: float = typer.Option(..., "--diameter", help="Reference diameter d [mm]."),
     width: float = typer.Option(..., "--width", help="Face width b [mm]."),
     grade: int = typer.Option(..., "--grade", help="Grade (1995: 0-12) or class (2013: 1-11)."),
-    json_out: Optional[Path] = json_option("the tolerances"),
-    csv_out: Optional[Path] = csv_option("the tolerances"),
+    json_out: Optional[str] = json_option("the tolerances"),
+    csv_out: Optional[str] = csv_option("the tolerances"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
@@ -378,8 +385,8 @@ def tolerance_iso286(
     size: float = typer.Option(..., "--size", help="Nominal size D [mm]."),
     grade: str = typer.Option(..., "--grade", help="IT1 .. IT12"),
     fit: Optional[str] = typer.Option(None, "--fit", help="A fit such as H7/g6."),
-    json_out: Optional[Path] = json_option("the tolerance and fit"),
-    csv_out: Optional[Path] = csv_option("the tolerance and fit"),
+    json_out: Optional[str] = json_option("the tolerance and fit"),
+    csv_out: Optional[str] = csv_option("the tolerance and fit"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
@@ -416,13 +423,16 @@ class SchemaOutput(str, Enum):
     allocate = "allocate"
     sensitivity = "sensitivity"
     sweep = "sweep"
+    transmission_error = "transmission-error"
+    contact = "contact"
 
 
 @app.command()
 @command
 def schema(output: Optional[SchemaOutput] = typer.Option(
         None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
-                               "hysteresis, allocate, sensitivity, sweep); its schema_version is in CHANGELOG.md.")
+                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact); its "
+                               "schema_version is in CHANGELOG.md.")
            ) -> None:
     """Print the JSON schema of the design file, or of a command's JSON output (--output)."""
     from rvbacklash.report.files import render_json

@@ -72,12 +72,14 @@ SPEC_PRELOAD_OPTION = typer.Option(None, "--spec-preload-um",
 METHOD_OPTION = typer.Option("default", "--method", help="default | box-muller | sobol | exact (linear model only).")
 MODEL_OPTION = typer.Option("linear", "--model", help="linear (Eq. (2)) | contact (exact cycloid-pin contact, per-part "
                                                       "errors; docs/contact.md) | elastic (the test bench's hysteresis "
-                                                      "loop: lost motion, backlash, rigidity; docs/elastic.md).")
+                                                      "loop: lost motion, backlash, rigidity; docs/elastic.md) | "
+                                                      "transmission (the contact model's units turned through one output "
+                                                      "revolution: TE peak-to-peak, backlash, largest lost motion; "
+                                                      "docs/transmission-error.md).")
 ERROR_MODEL_OPTION = typer.Option(None, "--error-model", help="contact/elastic models: long_wave (harmonics plus "
                                   "a per-element part, the default) | independent (every element on its own, the "
                                   "pessimistic bound); default: the design's [contact] error_model.")
 WORKERS_OPTION = typer.Option(0, "--workers", help="Worker threads (0 = all cores); results do not depend on it.")
-PLOT_OPTION = typer.Option(None, "--plot", help="Write the figure as SVG to FILE.", metavar="FILE")
 
 
 def command(fn: Callable) -> Callable:
@@ -114,13 +116,15 @@ def workers_or_none(workers: int) -> Optional[int]:
 
 
 class Outputs:
-    """The files and the standard output of one command, checked before any work is done."""
+    """The files and the standard output of one command, checked before any work is done. The
+    paths come as the text typed (a trailing slash, which ``Path`` drops, names a directory)."""
 
-    def __init__(self, fmt: Format, force: bool, quiet: bool, **paths: Optional[Path]):
-        from rvbacklash.report.files import check_distinct, check_writable, is_stdout
+    def __init__(self, fmt: Format, force: bool, quiet: bool, **paths: Optional[str]):
+        from rvbacklash.report.files import check_distinct, check_writable, is_stdout, output_path
 
         self.fmt, self.force, self.quiet = fmt, force, quiet
-        self.paths = {f"--{name.replace('_', '-')}": p for name, p in paths.items() if p is not None}
+        self.paths = {option: output_path(option, text) for option, text in
+                      ((f"--{name.replace('_', '-')}", text) for name, text in paths.items()) if text is not None}
         check_distinct(self.paths)
         to_stdout = [o for o, p in self.paths.items() if is_stdout(p)]
         if to_stdout and fmt is not Format.table:
@@ -157,11 +161,20 @@ def stdout_console():
 
 @contextlib.contextmanager
 def progress_bar(total: int | None, what: str = "sampling", note: str | None = None,
-                 enabled: bool = True) -> Iterator[Callable[[int], None] | None]:
-    """A rich progress bar on stderr when stderr is a terminal; else nothing. ``note`` is shown
-    until the first step finishes (e.g. a one-time compilation of kernels)."""
+                 enabled: bool = True) -> Iterator[Callable[[int], None]]:
+    """The progress callback of a long run: a rich progress bar on stderr when stderr is a
+    terminal. On any stream it tells ``rvbacklash.interrupt`` when the first work is finished:
+    from then on a Ctrl-C stops the run and keeps that work (partial results); before, there is
+    nothing to keep and a Ctrl-C ends the command at once. ``note`` is shown until the first step
+    finishes (e.g. a one-time compilation of kernels)."""
+    from rvbacklash.interrupt import mark_progress
+
+    def keep(done: int) -> None:
+        if done > 0:
+            mark_progress()
+
     if not enabled or total is None or not sys.stderr.isatty():
-        yield None
+        yield keep
         return
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn, TimeRemainingColumn
@@ -173,6 +186,7 @@ def progress_bar(total: int | None, what: str = "sampling", note: str | None = N
 
         def update(done: int) -> None:
             nonlocal started
+            keep(done)
             if not started:
                 bar.update(task, description=what)
                 started = True

@@ -18,6 +18,7 @@ import rvbacklash.cli.hysteresis  # noqa: F401  (hysteresis)
 import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 import rvbacklash.cli.transmission  # noqa: F401  (transmission-error)
 from rvbacklash.cli.app import app
+from rvbacklash.interrupt import EXIT_CODE
 
 
 def _argv_value(flags: list[str], argv: list[str]) -> str | None:
@@ -52,7 +53,8 @@ def click_error_line(e: Exception, argv: list[str]) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Entry point of the ``rvbacklash`` command."""
+    """Run the ``rvbacklash`` command (``rvbacklash.cli.main`` calls it with the command line's
+    Ctrl-C handling installed: a Ctrl-C never lands here as an exception but one a loop raises)."""
     args = sys.argv[1:] if argv is None else argv
     try:
         code = app(args=args, prog_name="rvbacklash", standalone_mode=False)
@@ -63,12 +65,9 @@ def main(argv: list[str] | None = None) -> None:
     except click_exceptions.ClickException as e:
         sys.stderr.write(click_error_line(e, args) + "\n")
         code = 2
-    except typer.Abort:
+    except (typer.Abort, KeyboardInterrupt):  # e.g. a loop that stopped before anything could be kept
         sys.stderr.write("interrupted\n")
-        code = 130
-    except KeyboardInterrupt:
-        sys.stderr.write("interrupted\n")
-        code = 130
+        code = EXIT_CODE
     except BrokenPipeError:  # e.g. `rvbacklash ... | head`
         code = 0
     sys.exit(code if isinstance(code, int) else 0)

@@ -70,9 +70,9 @@ def hysteresis(
     unit: Optional[int] = typer.Option(None, "--unit", help="The unit of --measured to run (0-based); default: the "
                                                            "first."),
     points: int = typer.Option(41, "--points", help="Loop nodes per branch (the definitions' torques are added)."),
-    json_out: Optional[Path] = json_option("the figures and the loop"),
-    csv_out: Optional[Path] = csv_option("the loop (branch, torque, angle)"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of the loop to FILE.", metavar="FILE"),
+    json_out: Optional[str] = json_option("the figures and the loop"),
+    csv_out: Optional[str] = csv_option("the loop (branch, torque, angle)"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG of the loop to FILE.", metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,

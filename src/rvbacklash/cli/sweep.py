@@ -149,6 +149,7 @@ def sweep(
     resumes; Ctrl-C keeps the finished points (docs/sweeps.md)."""
     import rvbacklash.api as api
     from rvbacklash.analysis.sweep import plan_sweep
+    from rvbacklash.interrupt import mark_progress
     from rvbacklash.report.files import render_csv, render_json
 
     if workers < 0:
@@ -158,6 +159,10 @@ def sweep(
     except InputError as e:
         raise _file_error(e, sweep_file) from None
     out_dir = out if out is not None else Path(plan.spec.name)
+    # a Ctrl-C in the sweep is always a stop request: its results directory and worker processes are
+    # closed in order, the finished points kept; they are on disk, so a second Ctrl-C stops at once
+    # (rvbacklash.interrupt)
+    mark_progress(on_disk=True)
     note = "sweep points" + (" (first contact-model runs compile kernels)" if plan.spec.model == "contact" else "")
     try:
         with _Bar(True, note) as progress:
@@ -200,16 +205,16 @@ def sweep_plot(
                                          help="Column to draw (e.g. joint_yield, backlash_q99865); default: the "
                                               "joint yield, else the primary output's yield, else its 99.865 % "
                                               "quantile."),
-    plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE", help="Write the figure as SVG to FILE "
+    plot: Optional[str] = typer.Option(None, "--plot", metavar="FILE", help="Write the figure as SVG to FILE "
                                                                              "(default: DIR/plot.svg)."),
-    html: Optional[Path] = typer.Option(None, "--html", metavar="FILE",
+    html: Optional[str] = typer.Option(None, "--html", metavar="FILE",
                                         help="Also write the sweep's HTML page with this figure first to FILE."),
     force: bool = FORCE_OPTION,
     quiet: bool = QUIET_OPTION,
 ) -> None:
     """Draw a sweep's results: a heat map of a figure over two parameters, or a line over one."""
     from rvbacklash.analysis.sweep import load_sweep
-    from rvbacklash.report.files import check_distinct, check_writable, write_files
+    from rvbacklash.report.files import check_distinct, check_writable, output_path, write_files
     from rvbacklash.report.sweep import default_figures, defaults, plot_svg, render_sweep_html
 
     try:
@@ -217,8 +222,8 @@ def sweep_plot(
     except InputError as e:
         raise e.renamed("DIR") from None  # the argument, not --out
     x_path, y_path, fig = defaults(result, x, y, figure)
-    target = plot if plot is not None else out / PLOT_FILE
-    files = {"--plot": target} | ({"--html": html} if html is not None else {})
+    target = output_path("--plot", plot) if plot is not None else out / PLOT_FILE
+    files = {"--plot": target} | ({"--html": output_path("--html", html)} if html is not None else {})
     check_distinct(files)
     for option, path in files.items():
         check_writable(option, path, force or (option == "--plot" and plot is None))
@@ -226,7 +231,8 @@ def sweep_plot(
     contents: dict[str, tuple[Path, str]] = {"--plot": (target, svg)}
     if html is not None:
         rest = [f for f in default_figures(result) if not f[0].startswith(fig + " ")]
-        contents["--html"] = (html, render_sweep_html(result, [(f"{fig} over {x_path}, {y_path}", svg), *rest]))
+        contents["--html"] = (files["--html"],
+                              render_sweep_html(result, [(f"{fig} over {x_path}, {y_path}", svg), *rest]))
     write_files(contents, True)
     if not quiet:
         best = result.best(fig)

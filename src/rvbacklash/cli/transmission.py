@@ -32,12 +32,15 @@ def print_transmission_error(result, console) -> None:
     t.add_row("positions with the cycloid stage preloaded", str(r.preloaded_positions))
     t.add_row(escape("error-free unit's own ripple [arcsec]"), f"{r.nominal_ripple_arcsec:.3f}")
     console.print(t)
-    s = Table(title="Leading orders (per output revolution)", title_justify="left")
-    s.add_column("order", justify="right")
-    s.add_column(escape("amplitude [arcsec]"), justify="right")
-    for line in r.leading_orders:
-        s.add_row(str(line.order), f"{line.amplitude_arcsec:.3f}")
-    console.print(s)
+    if r.leading_orders:
+        s = Table(title="Leading orders (per output revolution)", title_justify="left")
+        s.add_column("order", justify="right")
+        s.add_column(escape("amplitude [arcsec]"), justify="right")
+        for line in r.leading_orders:
+            s.add_row(str(line.order), f"{line.amplitude_arcsec:.3f}")
+        console.print(s)
+    else:
+        console.print(escape(r.no_spectrum()) + ".", highlight=False)
     if r.group_shares:
         g = Table(title="Error groups (each switched off in turn)", title_justify="left")
         for col in ("group", "TE p-p without [arcsec]", "variance share"):
@@ -58,9 +61,9 @@ def transmission_error(
     positions: int = typer.Option(1024, "--positions", help="Output positions per revolution (at least 8 z_p + 1: "
                                                             "order 4 z_p resolved)."),
     load_direction: str = typer.Option("ccw", "--load-direction", help="Flank of the headline figures: ccw | cw."),
-    json_out: Optional[Path] = json_option("the figures, the curves and the spectrum"),
-    csv_out: Optional[Path] = csv_option("the curves (one row per output position)"),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write an SVG of the curves and the spectrum to FILE.",
+    json_out: Optional[str] = json_option("the figures, the curves and the spectrum"),
+    csv_out: Optional[str] = csv_option("the curves (one row per output position)"),
+    plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG of the curves and the spectrum to FILE.",
                                         metavar="FILE"),
     fmt: Format = FORMAT_OPTION,
     force: bool = FORCE_OPTION,

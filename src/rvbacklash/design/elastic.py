@@ -3,8 +3,8 @@
 What the test bench needs to turn a unit's clearances into its torque-angle loop: the rated
 torque and the measuring points (lost motion at +-x % of it, rigidity over an interval of it),
 the materials and lengths of the line contacts (cycloid-pin, crank needle bearings), the mesh
-stiffness of the involute stage, the stiffnesses this model does not derive (main bearings,
-the rest of the structure) and a friction model.
+stiffness of the involute stage, stated stiffnesses that replace or add to what the model derives
+(main bearings; the structure that ``[structure]`` otherwise derives) and a friction model.
 
 Defaults and their basis (every one can be overridden):
 
@@ -17,8 +17,11 @@ Defaults and their basis (every one can be overridden):
 - Young's modulus 206 GPa and Poisson's ratio 0.3: handbook values for hardened steel.
 - ``mesh_stiffness_n_per_mm_um`` 20: c_gamma of solid steel spur pairs (DIN 3990-1 / ISO 6336-1
   approximation, c' ~ 14 N/(mm um) times (0.75 eps_alpha + 0.25) for eps_alpha ~ 1.6).
-- main-bearing and structure stiffness: None = rigid (not modelled; an assumption that makes the
-  predicted rigidity an upper bound: give them from FE or supplier data).
+- structure stiffness: None = not stated: the crankshafts, support bearings and carrier are derived
+  from the design's ``[structure]`` table (design/structure.py); a design without that table has a
+  rigid structure, and its predicted rigidity is an upper bound. A stated value (FE, a bench) wins.
+- main-bearing stiffness: None = no element: a pure-torque test does not load the main bearings
+  (docs/elastic.md, "The whole torque path"); a stated value adds one.
 - friction: 0 (the loading and unloading branches coincide); an assumption, not a measurement.
 """
 
@@ -73,10 +76,11 @@ class ElasticInputs(_Strict):
                                          "(ISO 6336-1 / DIN 3990: about 20 for solid steel spur gears)")
     main_bearing_stiffness_nm_per_arcmin: float | None = Field(
         None, gt=0, le=1e9, description="torsional stiffness of the main bearings at the output [N m/arcmin]; "
-                                        "default: rigid (not modelled)")
+                                        "default: none (a pure-torque test does not load them; docs/elastic.md)")
     structure_stiffness_nm_per_arcmin: float | None = Field(
         None, gt=0, le=1e9, description="torsional stiffness of everything else in series (crankshafts, support "
-                                        "bearings, carrier, housing) [N m/arcmin]; default: rigid (not modelled)")
+                                        "bearings, carrier, housing) [N m/arcmin]; replaces what [structure] derives; "
+                                        "default: derived from [structure], rigid without it")
 
     friction_torque_nm: float = Field(
         0.0, ge=0, le=1e6, description="Coulomb friction torque at the output, constant part T_f0 [N m]")

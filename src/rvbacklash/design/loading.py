@@ -13,6 +13,7 @@ from pydantic import BaseModel, ValidationError
 from rvbacklash.design.bounds import bounds_text
 from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
+from rvbacklash.paths import is_file
 
 _EXAMPLES_PACKAGE = "rvbacklash.examples"
 
@@ -37,7 +38,7 @@ def _source_help() -> str:
 def read_design_text(source: str | Path) -> tuple[str, str]:
     """(TOML text, origin label) for a path or example name."""
     path = Path(source)
-    if path.is_file():
+    if is_file("design", source):
         try:
             return path.read_text(encoding="utf-8-sig"), str(path)  # -sig: a UTF-8 BOM is not content
         except (OSError, UnicodeDecodeError) as e:
@@ -129,6 +130,11 @@ def validation_to_input_error(err: ValidationError, model: type[BaseModel]) -> I
         value = first.get("input")
         return InputError(field, allowed=allowed) if isinstance(value, dict) else InputError(field, value, allowed)
     msg = first["msg"].removeprefix("Value error, ")
+    cause = (first.get("ctx") or {}).get("error")
+    if isinstance(cause, InputError):  # a rule over several fields that names the one it refuses
+        name = cause.field if field == "design" else f"{field}.{cause.field}"
+        return InputError(name, cause.value, cause.allowed + more) if cause.has_value else \
+            InputError(name, allowed=cause.allowed + more)
     if info is None or isinstance(first.get("input"), dict):  # a rule over several fields: the message names them
         return InputError(field, allowed=msg + more)
     rng = _allowed_range(info)

@@ -39,6 +39,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from rvbacklash.design.loading import validation_to_input_error
 from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
+from rvbacklash.paths import is_file
 
 LIMIT_UM = 1000.0  # a deviation beyond a millimetre is not a measurement of this part
 
@@ -195,7 +196,7 @@ def _check_measures_something(u: MeasuredUnit, where: str) -> None:
 
 def load_units(path: str | Path, design: Design) -> list[MeasuredUnit]:
     p = Path(path)
-    if not p.is_file():
+    if not is_file("measured", path):
         raise InputError("measured", str(path), "allowed: a path to an existing TOML file of measured units")
     try:
         text = p.read_text(encoding="utf-8-sig")

@@ -14,7 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rvbacklash.design.costs import Costs
 from rvbacklash.design.elastic import ElasticInputs
-from rvbacklash.design.structure import StructureInputs
+from rvbacklash.design.structure import StructureInputs, check_structure
 from rvbacklash.factors import distributions
 from rvbacklash.factors.catalog import CATALOG
 from rvbacklash.geometry import reducer as geometry
@@ -307,6 +307,11 @@ class Design(_Strict):
                 continue
             raise ValueError(f"factors.{f.key}: no tolerance; allowed: a zone (lower_um/upper_um or plus_minus_um) "
                              f"or a grade (grades.{f.stage.label} or grades.factors.{f.key})")
+        return self
+
+    @model_validator(mode="after")
+    def _structure_fits_the_design(self) -> "Design":
+        check_structure(self)
         return self
 
     @model_validator(mode="after")

@@ -23,13 +23,47 @@ crankshafts, support bearings and carrier).
 
 No field has a default that stands for a dimension: a design states its own (the rv80e example
 says where each of its numbers comes from). Materials default to steel (handbook values).
+
+**Validity.** Each dimension feeds a formula of ``models/compliance.py`` that means something
+only for a part of the kind it describes; a 0.01 mm crankshaft or a 0.001 mm pillar gave a lost
+motion of 4.5e11 arcmin. A design is refused (field, value, allowed range) outside:
+
+- *beam length against section depth* (crankshaft span / diameter, pillar length / tangential
+  width) from ``DEPTH_RATIO_MIN`` = 1: the beam formulas with Timoshenko's shear term stay
+  within a few per cent of elasticity down to a length equal to the depth (Cowper, "On the
+  accuracy of Timoshenko's beam theory", J. Eng. Mech. Div. ASCE 94 (1968) 1447: < 3.5 % at
+  depth = length); shorter, the load goes straight into the support and no beam formula holds;
+- *slenderness* up to ``SLENDERNESS_MAX`` = 20 (crankshaft span and twisting length over their
+  diameters, pillar length over either side of its section): a plausibility limit, not a formula's
+  (real RV parts are 1-3; rv80e: 1.8, 1.6, 1.35), past which a shaft or pillar is a wire whose
+  deflection under the rated torque leaves the linear theory;
+- *rollers* of the support bearings ``ROLLER_ASPECT`` = 0.5 to 4 lengths per diameter: Palmgren's
+  line-contact law (``palmgren_line_approach_um``) is a fit to bearing rollers (tapered rollers are
+  about 1-2.5 diameters long; rv80e: 2); a disc of a roller or a needle is outside it;
+- *pillars that fit*: their tangential width below the chord between two neighbours on the
+  pillar circle (2 R_p sin(pi / n_p)), their radial depth inside the circle (h < 2 R_p);
+- against the rest of the design (``check_structure``, called by ``Design``): the crankshaft's
+  diameters between half the eccentric's (the crank needle bearing's raceway D_e: a crank whose
+  equivalent section is under half the eccentric it carries is not the part the formula
+  describes; rv80e: 25 mm for 30 mm, 0.83) and the circle about the crank axis that encloses the
+  eccentric (D_e + 2 a: no round section of the span is stiffer); the two discs' mid-planes at
+  least a disc face width apart, and the supports' load centres outside the disc stack (span >=
+  disc spacing + face width); the pillars inside the discs (R_p + h/2 below the disc's root
+  radius r_p - r_rp - a).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from rvbacklash.errors import InputError
+
+DEPTH_RATIO_MIN = 1.0  # a beam at least as long as its section is deep (Cowper 1968)
+SLENDERNESS_MAX = 20.0  # length over diameter or section side: a plausibility limit (real parts: 1-3)
+ROLLER_ASPECT = (0.5, 4.0)  # support-bearing roller length over diameter (Palmgren's law: bearing rollers)
 
 
 class _Strict(BaseModel):
@@ -90,8 +124,83 @@ class StructureInputs(_Strict):
 
     @model_validator(mode="after")
     def _consistent(self) -> "StructureInputs":
-        if not self.disc_spacing_mm < self.crankshaft_support_span_mm:
-            raise ValueError(f"disc_spacing_mm = {self.disc_spacing_mm}: the discs must sit between the crankshaft's "
-                             f"supports; allowed: disc_spacing_mm < crankshaft_support_span_mm = "
-                             f"{self.crankshaft_support_span_mm}")
+        """The table's dimensions against each other (module docstring, "Validity")."""
+        span, d = self.crankshaft_support_span_mm, self.crankshaft_diameter_mm
+        if not self.disc_spacing_mm < span:
+            raise InputError("disc_spacing_mm", self.disc_spacing_mm,
+                             f"the discs must sit between the crankshaft's supports; allowed: disc_spacing_mm < "
+                             f"crankshaft_support_span_mm = {span:g}")
+        _ratio("crankshaft_diameter_mm", d, "crankshaft_support_span_mm", span, "crankshaft span / diameter")
+        d_twist = self.crankshaft_torsion_diameter_mm or d
+        _ratio("crankshaft_torsion_diameter_mm" if self.crankshaft_torsion_diameter_mm else "crankshaft_diameter_mm",
+               d_twist, "crankshaft_torsion_length_mm", self.crankshaft_torsion_length_mm,
+               "twisting length / diameter", lowest=0.0)
+        _ratio("pillar_width_mm", self.pillar_width_mm, "pillar_length_mm", self.pillar_length_mm,
+               "pillar length / width (the bending direction)")
+        _ratio("pillar_depth_mm", self.pillar_depth_mm, "pillar_length_mm", self.pillar_length_mm,
+               "pillar length / depth", lowest=0.0)
+        chord = 2.0 * self.pillar_radius_mm * math.sin(math.pi / self.carrier_pillars)
+        if not self.pillar_width_mm < chord:
+            raise InputError("pillar_width_mm", self.pillar_width_mm,
+                             f"{self.carrier_pillars} pillars this wide overlap on their circle; allowed: < "
+                             f"2 pillar_radius_mm sin(pi / carrier_pillars) = {chord:.4g} mm")
+        if not self.pillar_depth_mm < 2.0 * self.pillar_radius_mm:
+            raise InputError("pillar_depth_mm", self.pillar_depth_mm,
+                             f"the pillars would cross the axis; allowed: < 2 pillar_radius_mm = "
+                             f"{2.0 * self.pillar_radius_mm:g} mm")
+        lo, hi = ROLLER_ASPECT
+        dw, lw = self.support_bearing_roller_diameter_mm, self.support_bearing_roller_length_mm
+        if not lo * dw <= lw <= hi * dw:
+            raise InputError("support_bearing_roller_length_mm", lw,
+                             f"allowed: {lo:g} to {hi:g} roller diameters ({lo * dw:.4g} to {hi * dw:.4g} mm for "
+                             f"support_bearing_roller_diameter_mm = {dw:g}): Palmgren's line-contact law is for "
+                             f"bearing rollers")
         return self
+
+
+def _ratio(field: str, size: float, length_field: str, length: float, what: str,
+           lowest: float = DEPTH_RATIO_MIN) -> None:
+    """A beam's length over its section's size within [lowest, SLENDERNESS_MAX] (module docstring);
+    the error names the section field (``size``) with the sizes allowed for that length."""
+    if lowest * size <= length <= SLENDERNESS_MAX * size:
+        return
+    smallest = length / SLENDERNESS_MAX
+    if lowest > 0:
+        allowed = f"{lowest:g} <= {what} <= {SLENDERNESS_MAX:g}, i.e. {field} {smallest:.4g} to {length / lowest:.4g}"
+    else:
+        allowed = f"{what} <= {SLENDERNESS_MAX:g}, i.e. {field} >= {smallest:.4g}"
+    raise InputError(field, size, f"{what} = {length / size:.4g} ({length_field} = {length:g}); allowed: {allowed}")
+
+
+def check_structure(design) -> None:
+    """The [structure] table of ``design`` (a ``Design``, whose validator calls this: design/schema.py
+    imports this module, not the other way round) against the rest of the design (module
+    docstring, "Validity"); an InputError names the field by its path in the design."""
+    st = design.structure
+    if st is None:
+        return
+    s2, e = design.second_stage, design.elastic
+    raceway = (e.crank_bearing_raceway_diameter_mm if e is not None else None) or design.crank_stage.bearing_bore_mm
+    if raceway is not None:
+        lo, hi = 0.5 * raceway, raceway + 2.0 * s2.eccentricity_mm
+        for name in ("crankshaft_diameter_mm", "crankshaft_torsion_diameter_mm"):
+            d = getattr(st, name)
+            if d is not None and not lo <= d <= hi:
+                raise InputError(f"structure.{name}", d,
+                                 f"allowed: {lo:.4g} to {hi:.4g} mm, from half the eccentric it carries (the crank "
+                                 f"needle bearing's raceway {raceway:g} mm) to the circle about the crank axis that "
+                                 f"encloses it (raceway + 2 x eccentricity {s2.eccentricity_mm:g} mm)")
+    if e is not None and s2.discs >= 2:
+        face = e.disc_face_width_mm
+        if not st.disc_spacing_mm >= face:
+            raise InputError("structure.disc_spacing_mm", st.disc_spacing_mm,
+                             f"the two discs would overlap; allowed: >= elastic.disc_face_width_mm = {face:g}")
+        if not st.crankshaft_support_span_mm >= st.disc_spacing_mm + face:
+            raise InputError("structure.crankshaft_support_span_mm", st.crankshaft_support_span_mm,
+                             f"the supports must sit outside the disc stack; allowed: >= disc_spacing_mm + "
+                             f"elastic.disc_face_width_mm = {st.disc_spacing_mm + face:g}")
+    root = s2.pin_circle_radius_mm - s2.pin_radius_mm - s2.eccentricity_mm
+    if not st.pillar_radius_mm + 0.5 * st.pillar_depth_mm < root:
+        raise InputError("structure.pillar_radius_mm", st.pillar_radius_mm,
+                         f"the pillars pass through the discs; allowed: pillar_radius_mm + pillar_depth_mm / 2 < "
+                         f"the discs' root radius r_p - r_rp - a = {root:.4g} mm")

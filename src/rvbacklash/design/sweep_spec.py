@@ -30,6 +30,7 @@ from rvbacklash.design.loading import (_allowed_range, _submodel, available_exam
 from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG
+from rvbacklash.paths import is_file
 
 SAMPLINGS = ("grid", "latin-hypercube", "sobol")
 MAX_POINTS = 100_000  # a sweep larger than this is a typing error more often than a plan
@@ -502,7 +503,7 @@ def sweep_from_toml(text: str, origin: str = "<string>") -> SweepSpec:
 def read_sweep_text(source: str | Path) -> tuple[str, str, Path | None]:
     """(TOML text, origin, directory of relative paths) of a sweep file or example sweep name."""
     path = Path(source)
-    if path.is_file():
+    if is_file("sweep", source):
         try:
             return path.read_text(encoding="utf-8-sig"), str(path), path.resolve().parent
         except (OSError, UnicodeDecodeError) as e:

@@ -2,8 +2,9 @@
 to a temporary sibling and renamed, so a failure never leaves a half-written file.
 
 A path is a new file or an existing *regular* file (replaced only with ``force``); a symlink is
-followed and its target replaced; FIFOs, devices, sockets and directories are refused. ``-``
-means standard output.
+followed and its target replaced; FIFOs, devices, sockets and directories are refused, and so is
+a path that ends in a slash (it names a directory, even one that does not exist yet) or that the
+file system cannot hold (a name too long). ``-`` means standard output.
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ from typing import Any, Iterable, Mapping
 from rvbacklash._version import SCHEMA_VERSION, __version__
 from rvbacklash.atomic import atomic_write  # noqa: F401 - part of this module's interface
 from rvbacklash.errors import InputError
+from rvbacklash.interrupt import writing
+from rvbacklash.paths import is_dir, is_symlink, path_stat
 from rvbacklash.results import plain
 
 STDOUT = "-"
@@ -55,29 +58,35 @@ def is_stdout(path: Path | str) -> bool:
     return str(path) == STDOUT
 
 
-def target(path: Path) -> Path:
+def output_path(option: str, text: str) -> Path:
+    """The path of an output file as given on the command line. A trailing slash names a
+    directory (``newdir/``), which a file cannot be written as: ``Path`` would drop the slash and
+    write a file named ``newdir``, so the text is checked before it becomes a Path."""
+    if not is_stdout(text) and text.endswith(tuple({os.sep, os.altsep or os.sep})):
+        raise InputError(option, text, "ends in a slash, which names a directory; allowed: a file path (e.g. "
+                                       f"{text.rstrip(os.sep + (os.altsep or ''))}{os.sep}result.json)")
+    return Path(text)
+
+
+def target(option: str, path: Path) -> Path:
     """The file a write to ``path`` replaces: symlinks followed."""
-    return Path(os.path.realpath(path)) if path.is_symlink() else path
+    return Path(os.path.realpath(path)) if is_symlink(option, path) else path
 
 
 def check_writable(option: str, path: Path, force: bool = False) -> None:
     """Fail early (before any work is written) if ``path`` cannot be written."""
     if is_stdout(path):
         return
-    real = target(path)
+    real = target(option, path)
     parent = real.parent if str(real.parent) else Path(".")
-    if real.is_dir():
+    st = path_stat(option, real)
+    mode = st.st_mode if st is not None else None
+    if mode is not None and stat.S_ISDIR(mode):
         raise InputError(option, str(path), "is a directory; allowed: a file path")
-    try:
-        mode = os.stat(real).st_mode
-    except FileNotFoundError:
-        mode = None
-    except OSError as e:
-        raise InputError(option, str(path), f"cannot be inspected ({e.strerror or e})") from None
     if mode is not None and not stat.S_ISREG(mode):
         raise InputError(option, str(path), "is not a regular file (a FIFO, device or socket); allowed: a new path "
                                             "or a regular file")
-    if not parent.is_dir():
+    if not is_dir(option, parent):
         raise InputError(option, str(path), f"directory {str(parent)!r} does not exist")
     if not os.access(parent, os.W_OK):
         raise InputError(option, str(path), f"directory {str(parent)!r} is not writable")
@@ -104,14 +113,15 @@ def write_files(contents: Mapping[str, tuple[Path, str | bytes]], force: bool = 
     check_distinct({option: path for option, (path, _) in contents.items()})
     for option, (path, _) in contents.items():
         check_writable(option, path, force)
-    for option, (path, content) in contents.items():
-        if is_stdout(path):
-            if isinstance(content, bytes):
-                sys.stdout.buffer.write(content)
+    with writing():  # a Ctrl-C lets every file of the command be written first (rvbacklash.interrupt)
+        for option, (path, content) in contents.items():
+            if is_stdout(path):
+                if isinstance(content, bytes):
+                    sys.stdout.buffer.write(content)
+                else:
+                    sys.stdout.write(content)
+                sys.stdout.flush()
             else:
-                sys.stdout.write(content)
-            sys.stdout.flush()
-        else:
-            atomic_write(option, target(path), content)
+                atomic_write(option, target(option, path), content)
 
 

@@ -23,11 +23,13 @@ import numpy as np
 
 from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.allocation import AllocationResult
+from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
 from rvbacklash.analysis.simulation import SimulationResult
 from rvbacklash.analysis.stackup import FactorResult, StageResult, TotalResult
 from rvbacklash.analysis.sweep import SweepResult
+from rvbacklash.analysis.transmission import TransmissionErrorResult
 from rvbacklash.geometry.reducer import DerivedGeometry
 from rvbacklash.results import EXPORT, KEY
 
@@ -105,6 +107,16 @@ def _result(cls: type) -> Callable[[_Generator], dict]:
     return lambda g: g.dataclass_schema(cls)
 
 
+def _contact(g: _Generator) -> dict:
+    """``contact --json``: one unit's ``NominalContact``, or with several measured units (``--measured``
+    without ``--unit``) the design's name and every unit's."""
+    one = g.dataclass_schema(NominalContact)
+    many = {"type": "object", "description": "Every unit of a file of measured units.",
+            "properties": {"design": {"type": "string"}, "units": {"type": "array", "items": g.of(NominalContact)}},
+            "required": ["design", "units"], "additionalProperties": False}
+    return {"anyOf": [one, many]}
+
+
 # command -> (the schema of its result, what the JSON is)
 OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
     "simulate": (_result(SimulationResult),
@@ -119,6 +131,11 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
                     "rvbacklash sensitivity --json: Sobol indices per factor"),
     "sweep": (_result(SweepResult),
               "rvbacklash sweep --format json: one row per design point"),
+    "transmission-error": (_result(TransmissionErrorResult),
+                           "rvbacklash transmission-error --json: one unit's transmission error and rigid lost "
+                           "motion over a full output revolution, its spectrum"),
+    "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
+                          "exact cycloid-pin geometry"),
 }
 
 
@@ -129,10 +146,15 @@ def output_schema(output: str) -> dict:
     stamps = {"schema_version": {"const": SCHEMA_VERSION, "description": "version of the output formats "
                                                                            "(CHANGELOG.md)"},
               "rvbacklash_version": {"type": "string", "description": "the rvbacklash that wrote the file"}}
+
+    def stamped(form: dict) -> dict:
+        return {"properties": {**stamps, **form["properties"]}, "required": [*stamps, *form["required"]],
+                "additionalProperties": False}
+
     schema = {"$schema": DIALECT, "$id": f"https://rvbacklash.invalid/schema/{SCHEMA_VERSION}/{output}.json",
               "title": f"rvbacklash {output} output", "description": OUTPUTS[output][1], "type": "object",
-              "properties": {**stamps, **body["properties"]}, "required": [*stamps, *body["required"]],
-              "additionalProperties": False}
+              **({"anyOf": [{"type": "object", **stamped(form)} for form in body["anyOf"]]} if "anyOf" in body
+                 else stamped(body))}
     if g.defs:
         schema["$defs"] = dict(sorted(g.defs.items()))
     return schema

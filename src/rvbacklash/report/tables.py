@@ -120,7 +120,17 @@ def print_simulation(r: "SimulationResult", console: Console) -> None:
     a = r.linear_reference
     console.print(f"linear stack-up (analyze): mean {a.mean_arcmin:.4f}, sigma {a.sigma_arcmin:.4f} arcmin")
     if r.samples_per_s:
-        console.print(f"[dim]{r.elapsed_s:.2f} s, {r.samples_per_s / 1e6:.2f} M samples/s[/]")
+        console.print(f"[dim]{r.elapsed_s:.2f} s, {rate_text(r.samples_per_s, 'samples')}[/]")
+
+
+def rate_text(per_s: float, what: str) -> str:
+    """A rate with three significant digits in the unit that fits it: the linear model draws
+    millions of samples per second, the transmission model hundreds ('0.00 M samples/s' said
+    nothing)."""
+    for scale, prefix in ((1e6, "M "), (1e3, "k ")):
+        if per_s >= scale:
+            return f"{per_s / scale:.3g} {prefix}{what}/s"
+    return f"{per_s:.3g} {what}/s"
 
 
 def print_scenarios(results, console: Console) -> None:

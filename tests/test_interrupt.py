@@ -1,0 +1,129 @@
+"""rvbacklash.interrupt: the command line's Ctrl-C in each phase, with real signals, each case in a
+fresh interpreter (the handler ends the process), no timing: the signal is sent by the process to
+itself at the point under test."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from rvbacklash import interrupt
+
+PRELUDE = """
+import os, signal, sys
+from rvbacklash import interrupt
+
+def ctrl_c():
+    os.kill(os.getpid(), signal.SIGINT)
+
+"""
+
+
+def _run(body: str) -> subprocess.CompletedProcess:
+    code = PRELUDE + "with interrupt.exit_on_sigint(process=True):\n" + textwrap.indent(textwrap.dedent(body), "    ")
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+
+
+def test_outside_a_window_the_command_ends_at_once():
+    p = _run("""
+        print("before", flush=True)
+        ctrl_c()
+        print("after")  # never reached
+    """)
+    assert (p.returncode, p.stdout, p.stderr) == (130, "before\n", "interrupted: nothing was written\n")
+
+
+def test_in_a_window_before_any_work_finished_the_command_ends_at_once():
+    """E.g. the first block compiling its kernel in a worker thread: nothing to keep, no wait."""
+    p = _run("""
+        with interrupt.stop_requested() as stop:
+            ctrl_c()
+            print("after")
+    """)
+    assert (p.returncode, p.stdout, p.stderr) == (130, "", "interrupted: nothing was written\n")
+
+
+def test_after_progress_a_ctrl_c_stops_the_loop_and_more_are_ignored():
+    p = _run("""
+        with interrupt.stop_requested() as outer:
+            interrupt.mark_progress()
+            with interrupt.stop_requested() as inner:
+                ctrl_c()
+                print("stop requested:", inner.is_set(), outer.is_set(), flush=True)
+                ctrl_c()  # a second press: ignored, the partial results are being written
+                ctrl_c()
+        with interrupt.stop_requested() as later:  # a loop after the stop does not start its work
+            print("later loop stopped:", later.is_set())
+        print("finished")
+        sys.exit(130)
+    """)
+    assert p.returncode == 130 and "Traceback" not in p.stderr
+    assert p.stdout == "stop requested: True True\nlater loop stopped: True\nfinished\n"
+    assert p.stderr.count("Ctrl-C again is ignored") == 1
+
+
+def test_a_ctrl_c_while_writing_lets_the_files_be_written_first(tmp_path):
+    out = tmp_path / "out.txt"
+    p = _run(f"""
+        from pathlib import Path
+        from rvbacklash.atomic import atomic_write
+        with interrupt.writing():
+            ctrl_c()
+            atomic_write("--json", Path({str(out)!r}), "whole")
+            print("written", flush=True)
+        print("after")  # never reached: the deferred Ctrl-C ends the command here
+    """)
+    assert (p.returncode, p.stdout) == (130, "written\n") and p.stderr == "interrupted after the files were written\n"
+    assert out.read_text() == "whole" and sorted(x.name for x in tmp_path.iterdir()) == ["out.txt"]
+
+
+def test_after_the_command_the_shutdown_ignores_ctrl_c():
+    """With the command done (its partial results written), a press during the interpreter's
+    shutdown killed the process by SIGINT (exit -2) instead of letting it exit 130."""
+    code = PRELUDE + textwrap.dedent("""
+        with interrupt.exit_on_sigint(process=True):
+            pass
+        ctrl_c()
+        print("shutting down")
+        sys.exit(130)
+    """)
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert (p.returncode, p.stdout, p.stderr) == (130, "shutting down\n", "")
+
+
+def test_in_process_the_previous_handler_comes_back():
+    before = signal.getsignal(signal.SIGINT)
+    with interrupt.exit_on_sigint():
+        assert signal.getsignal(signal.SIGINT) is not before
+    assert signal.getsignal(signal.SIGINT) is before
+
+
+def test_library_use_a_second_ctrl_c_in_a_window_raises():
+    """Without the command line's handler (a script, Jupyter): the first press sets the event,
+    the second raises KeyboardInterrupt at once."""
+    with interrupt.stop_requested() as stop:
+        os.kill(os.getpid(), signal.SIGINT)
+        assert stop.is_set()
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_a_sweep_keeps_its_points_on_disk_so_a_second_ctrl_c_stops_at_once():
+    p = _run("""
+        interrupt.mark_progress(on_disk=True)
+        with interrupt.stop_requested() as stop:
+            ctrl_c()
+            print("stop requested:", stop.is_set(), flush=True)
+            try:
+                ctrl_c()
+            except KeyboardInterrupt:
+                print("stopped at once")
+        sys.exit(130)
+    """)
+    assert (p.returncode, p.stdout) == (130, "stop requested: True\nstopped at once\n") and p.stderr == ""
