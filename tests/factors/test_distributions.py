@@ -60,12 +60,12 @@ def test_rayleigh_scale_covers_9973_percent():
 def test_a_law_without_a_compiled_branch_is_drawn_from_its_table():
     """The generic branch of the compiled sampler: a tabulated inverse cdf reproduces the law."""
     from rvbacklash.sampling.fast_normals import stream_states
-    from rvbacklash.sampling.unit_draw import FactorLaws, WaveSigmas, draw
+    from rvbacklash.sampling.unit_draw import CYCLOID_FACTORS, FactorLaws, WaveSigmas, draw
 
     z = ResolvedZone(-6.0, 6.0, "uniform", "test")
     zero, w = np.zeros(1), WaveSigmas(0.0, 0.0, 0.0, 0.0)
     laws = FactorLaws(np.array([dist.KERNEL_TABLE]), zero, zero, zero, zero, dist.ppf_table(z)[None, :], w, w,
-                      np.zeros(0, dtype=np.int64), np.zeros(0), False, False)
+                      CYCLOID_FACTORS, np.zeros(0, dtype=np.int64), np.zeros(0), False, False)
     streams = stream_states([np.random.SeedSequence(4)])
     x = np.array([draw(streams, laws, 0) for _ in range(40000)])
     assert stats.kstest(x, dist.marginal(z).cdf).pvalue > 0.01

@@ -45,9 +45,9 @@ def test_the_runs_units_are_the_contact_models(problem):
     from rvbacklash.models.contact import kernel_play
     from rvbacklash.sampling.contact_source import contact_source
 
-    from rvbacklash.sampling.te_source import KinematicSigmas
+    from rvbacklash.sampling.te_source import KinematicLaws
 
-    src = replace(transmission_source(problem, "default", 4), sigmas=KinematicSigmas(0.0, 0.0, 0.0, 0.0))
+    src = replace(transmission_source(problem, "default", 4), kin_laws=KinematicLaws(0.0, 0.0, 0.0, 0.0))
     out = src.block(0, 6)
     c = contact_source(problem, "default", 4, save_units=6)
     c.block(0, 6)

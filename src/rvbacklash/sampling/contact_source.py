@@ -89,7 +89,8 @@ def contact_block(streams, laws, stage, coef, out, saved):
     mesh_table at the crank-angle steps): out[0] backlash of every unit [arcmin], out[1] the same of
     the units whose cycloid stage is free (NaN if preloaded), out[2] preload [um] (NaN if free),
     one column per unit. The first units are recorded in ``saved`` (as many as it holds)."""
-    unit = empty_unit(stage.zp, stage.zc, stage.discs, 0)
+    unit = empty_unit(stage.zp, stage.zc, stage.discs, np.int64(0))  # no kinematic errors (not a literal 0: one
+    #                                                                 compiled empty_unit for every kernel)
     scratch = draw_scratch(stage.zp, stage.zc)
     gaps, work = pin_gaps(stage.discs, stage.zp), stage_work(stage.discs, stage.zp)
     steps = coef.shape[0]

@@ -86,7 +86,8 @@ def draw_units_kernel(streams, laws, stage, coef, batch, saved):
     crank-bearing clearance [um] and the cycloid stage's preload (models.contact.stage_play; NaN
     when free) [um]. The first units are recorded in ``saved`` (SavedUnits) as the contact model
     records them (cycloid stage: its rigid play [arcmin], or -preload [um])."""
-    unit = empty_unit(stage.zp, stage.zc, stage.discs, 0)
+    unit = empty_unit(stage.zp, stage.zc, stage.discs, np.int64(0))  # no kinematic errors (not a literal 0: one
+    #                                                                 compiled empty_unit for every kernel)
     scratch = draw_scratch(stage.zp, stage.zc)
     work = stage_work(stage.discs, stage.zp)
     steps = coef.shape[0]

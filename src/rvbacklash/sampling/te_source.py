@@ -59,18 +59,20 @@ def te_streams(seed: int, block: int, stream: tuple[int, ...] = ()) -> np.ndarra
         [SeedSequence(seed, spawn_key=(*stream, block, N_STREAMS + m)) for m in range(len(KINEMATIC_FACTORS))])])
 
 
-class KinematicSigmas(NamedTuple):
-    """The kinematic factors' sigma per component [um] (KINEMATIC_FACTORS, in its order: each draws
-    from its own stream, KINEMATIC_STREAMS)."""
+class KinematicLaws(NamedTuple):
+    """The kinematic factors' sigma per component [um] and the stream each draws from (its index among
+    the kinematic streams: KINEMATIC_FACTORS order). The streams are run-time numbers in the record,
+    not constants in the code: a compiled call with a constant argument is compiled again for each
+    value (here the ziggurat, four times)."""
 
     centre_gear_um: float
     planet_um: float
     disc_hole_um: float
     carrier_hole_um: float
-
-
-# each kinematic factor's stream among the kinematic streams (KINEMATIC_FACTORS order)
-CENTRE_GEAR_STREAM, PLANET_STREAM, DISC_HOLE_STREAM, CARRIER_HOLE_STREAM = range(4)
+    centre_gear_stream: int = 0
+    planet_stream: int = 1
+    disc_hole_stream: int = 2
+    carrier_hole_stream: int = 3
 
 
 class TEBatch(NamedTuple):
@@ -90,11 +92,11 @@ def first_units(batch: TEBatch, k: int) -> TEBatch:
 
 
 @njit(nogil=True, cache=True)
-def draw_chunk(streams, kin_streams, laws, sigmas, batch):
+def draw_chunk(streams, kin_streams, laws, kin_laws, batch):
     """The units of ``batch`` (TEBatch), one row each: the contact model's draws (unit_draw.draw_unit
     with FactorLaws ``laws``; crank angle ignored: every unit starts at the reference position)
     and the kinematic factors' (``kin_streams``: one xoshiro stream state each, KINEMATIC_FACTORS
-    order; ``sigmas``: KinematicSigmas): the gears' eccentricities and the crank holes of the discs
+    order; ``kin_laws``: KinematicLaws): the gears' eccentricities and the crank holes of the discs
     and of the carrier."""
     units = batch.units
     zp, discs, zc = units.pin_radial_um.shape[1], units.tooth_pitch_um.shape[1], units.tooth_pitch_um.shape[2]
@@ -109,17 +111,17 @@ def draw_chunk(streams, kin_streams, laws, sigmas, batch):
         batch.linear_arcmin[s] = drawn.linear_arcmin
         batch.crank_clearance_um[s] = drawn.crank_clearance_um
         for c in range(2):
-            centre[c] = sigmas.centre_gear_um * _normal(kin_streams, CENTRE_GEAR_STREAM, False)
+            centre[c] = kin_laws.centre_gear_um * _normal(kin_streams, kin_laws.centre_gear_stream, False)
         for k in range(planets):
             for c in range(2):
-                planet[k, c] = sigmas.planet_um * _normal(kin_streams, PLANET_STREAM, False)
+                planet[k, c] = kin_laws.planet_um * _normal(kin_streams, kin_laws.planet_stream, False)
         for d in range(discs):
             for k in range(planets):
                 for c in range(2):
-                    hd[d, k, c] = sigmas.disc_hole_um * _normal(kin_streams, DISC_HOLE_STREAM, False)
+                    hd[d, k, c] = kin_laws.disc_hole_um * _normal(kin_streams, kin_laws.disc_hole_stream, False)
         for k in range(planets):
             for c in range(2):
-                hc[k, c] = sigmas.carrier_hole_um * _normal(kin_streams, CARRIER_HOLE_STREAM, False)
+                hc[k, c] = kin_laws.carrier_hole_um * _normal(kin_streams, kin_laws.carrier_hole_stream, False)
         store_unit(units, s, unit)
 
 
@@ -151,7 +153,7 @@ class TransmissionBlockSource:
     """Block source of the engine for the transmission error (method: default)."""
 
     contact: ContactBlockSource  # laws, error model, harmonics of the contact model
-    sigmas: KinematicSigmas
+    kin_laws: KinematicLaws
     kinematics: Kinematics
     table: PositionTable  # the output positions
     ref_ccw_rad: np.ndarray  # the error-free unit's ccw flank at the positions
@@ -163,7 +165,7 @@ class TransmissionBlockSource:
     def _draw(self, streams: np.ndarray, m: int) -> TEBatch:
         c, g = self.contact, self.contact.geometry
         batch = TEBatch(empty_units(m, g.zp, g.zc, g.discs, self.kinematics.planets), np.empty(m), np.empty(m))
-        draw_chunk(streams[:N_STREAMS], streams[N_STREAMS:], c.laws, self.sigmas, batch)
+        draw_chunk(streams[:N_STREAMS], streams[N_STREAMS:], c.laws, self.kin_laws, batch)
         return batch
 
     def _evaluate(self, batch: TEBatch, out: np.ndarray) -> None:
@@ -210,8 +212,8 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     g = problem.cycloid
     n = POSITIONS_PER_PIN * g.zp
     ref = reference_revolution(problem, n, 0.0, exact=False)
-    sigmas = KinematicSigmas(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
-    return TransmissionBlockSource(c, sigmas, kinematics(problem), position_table(g, n, 0.0), ref.ccw_rad, TE_OUTPUTS,
+    kin_laws = KinematicLaws(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
+    return TransmissionBlockSource(c, kin_laws, kinematics(problem), position_table(g, n, 0.0), ref.ccw_rad, TE_OUTPUTS,
                                    save_units=int(save_units))
 
 
@@ -247,5 +249,7 @@ def transmission_streams(problem: Problem) -> TransmissionStreams:
     from rvbacklash.factors.catalog import FACTOR_KEYS, KINEMATIC_KEYS
 
     source = transmission_source(problem, "default", 0)
-    random = tuple(bool(x) for x in problem.random_mask) + (True,) + tuple(bool(s > 0) for s in source.sigmas)
+    k = source.kin_laws
+    sigmas = (k.centre_gear_um, k.planet_um, k.disc_hole_um, k.carrier_hole_um)  # KINEMATIC_FACTORS order
+    random = tuple(bool(x) for x in problem.random_mask) + (True,) + tuple(bool(s > 0) for s in sigmas)
     return TransmissionStreams(source, random, tuple(FACTOR_KEYS) + ("crank_angle",) + KINEMATIC_KEYS)

@@ -37,12 +37,6 @@ from rvbacklash.sampling.part_errors import Harmonics, Wave, calibrate, element_
 IDX = {f.key: f.id - 1 for f in CATALOG}
 CRANK_STREAM = len(CATALOG)  # the stream after the 21 factors': the crank angle of the measurement
 N_STREAMS = len(CATALOG) + 1
-# the cycloid stage's factors (their catalog index: the stream each draws from)
-DISC_PITCH, EQUIDISTANCE, MOVING_DISTANCE, DISC_RUNOUT, PIN_CIRCLE, PIN_RADIUS, PIN_CLEARANCE, PIN_PITCH, \
-    EQUIDISTANCE_ERROR, MOVING_DISTANCE_ERROR, CRANK_ECCENTRICITY = (
-        IDX[k] for k in ("disc_cumulative_pitch", "equidistance_modification", "moving_distance_modification",
-                         "disc_runout", "pin_circle_radius", "pin_radius", "pin_hole_clearance", "pin_cumulative_pitch",
-                         "equidistance_modification_error", "moving_distance_modification_error", "crank_eccentricity"))
 LINEAR_KEYS = tuple(f.key for f in CATALOG if f.stage.label in ("involute", "crank") and f.key != "crank_eccentricity")
 ERROR_MODELS = ("long_wave", "independent")
 
@@ -56,12 +50,36 @@ class WaveSigmas(NamedTuple):
     radial_element_um: float
 
 
+class CycloidFactors(NamedTuple):
+    """The catalog index of each factor of the cycloid stage: the stream it draws from and its law's
+    row in FactorLaws. Run-time numbers in the record, not constants in the code: a compiled call
+    with a constant argument is compiled again for each value."""
+
+    disc_pitch: int
+    equidistance: int
+    moving_distance: int
+    disc_runout: int
+    pin_circle: int
+    pin_radius: int
+    pin_clearance: int
+    pin_pitch: int
+    equidistance_error: int
+    moving_distance_error: int
+    crank_eccentricity: int
+
+
+CYCLOID_FACTORS = CycloidFactors(*(IDX[k] for k in (
+    "disc_cumulative_pitch", "equidistance_modification", "moving_distance_modification", "disc_runout",
+    "pin_circle_radius", "pin_radius", "pin_hole_clearance", "pin_cumulative_pitch", "equidistance_modification_error",
+    "moving_distance_modification_error", "crank_eccentricity")))
+
+
 class FactorLaws(NamedTuple):
     """Everything a unit's draw reads: each catalog factor's law (``factors.distributions.KernelLaw``
     as arrays over the catalog, and its tabulated inverse cdf for a law without a branch), the
-    long-wave sigmas of the disc teeth and of the pin holes, the linear stages' factors (catalog
-    indices of LINEAR_KEYS, the crank-bearing clearance last) and their sensitivities
-    [arcmin/um], and how it draws (the error model, Box-Muller normals)."""
+    long-wave sigmas of the disc teeth and of the pin holes, the cycloid stage's factors, the
+    linear stages' factors (catalog indices of LINEAR_KEYS, the crank-bearing clearance last) and
+    their sensitivities [arcmin/um], and how it draws (the error model, Box-Muller normals)."""
 
     code: np.ndarray  # (21,) int64
     loc: np.ndarray  # (21,) [um]
@@ -71,6 +89,7 @@ class FactorLaws(NamedTuple):
     ppf_table: np.ndarray  # (21, TABLE_POINTS) [um]
     disc_wave: WaveSigmas
     pin_hole_wave: WaveSigmas
+    cycloid: CycloidFactors
     linear_factors: np.ndarray  # (k,) int64
     linear_sens_arcmin_per_um: np.ndarray  # (k,)
     long_wave: bool
@@ -125,7 +144,7 @@ def factor_laws(problem: Problem, error_model: str, box_muller: bool) -> FactorL
             h = calibrate(part)
             waves[row] = WaveSigmas(h.first_um, h.second_um, h.element_um, h.radial_element_um)
     linear = np.array([IDX[k] for k in LINEAR_KEYS], dtype=np.int64)
-    return FactorLaws(code, loc, scale, lower, upper, tables, waves[0], waves[1], linear,
+    return FactorLaws(code, loc, scale, lower, upper, tables, waves[0], waves[1], CYCLOID_FACTORS, linear,
                       np.ascontiguousarray(problem.sensitivities_arcmin_per_um[linear]), long_wave, bool(box_muller))
 
 
@@ -205,7 +224,7 @@ def draw_unit(streams, laws, steps, unit, scratch):
     dr, dt, rho, cl, teeth = unit.pin_radial_um, unit.pin_tangential_um, unit.pin_radius_um, unit.pin_clearance_um, \
         unit.tooth_pitch_um
     z = scratch.normals
-    hd, hp = laws.disc_wave, laws.pin_hole_wave
+    hd, hp, fa = laws.disc_wave, laws.pin_hole_wave, laws.cycloid
     step = int(steps * stream_uniform(streams, CRANK_STREAM))
     lin = 0.0
     last = 0.0
@@ -213,14 +232,14 @@ def draw_unit(streams, laws, steps, unit, scratch):
         f = laws.linear_factors[m]
         last = draw(streams, laws, f)
         lin += laws.linear_sens_arcmin_per_um[m] * last
-    eq0 = draw(streams, laws, EQUIDISTANCE)
-    md0 = draw(streams, laws, MOVING_DISTANCE)
+    eq0 = draw(streams, laws, fa.equidistance)
+    md0 = draw(streams, laws, fa.moving_distance)
     # the pins and their holes
     # each stream's draws in one pass (the factors' streams are independent: their order across
     # streams does not change a number)
     if laws.long_wave:
-        common = draw(streams, laws, PIN_CIRCLE)
-        standard_normals(streams, PIN_PITCH, laws.box_muller, z, 4 + 2 * zp)  # ux, uy, cx, cy, (s_j, q_j)
+        common = draw(streams, laws, fa.pin_circle)
+        standard_normals(streams, fa.pin_pitch, laws.box_muller, z, 4 + 2 * zp)  # ux, uy, cx, cy, (s_j, q_j)
         s_p, q_p = scratch.pin_element_um, scratch.pin_radial_element_um
         for j in range(zp):
             s_p[j] = hp.element_um * z[4 + 2 * j]
@@ -230,19 +249,19 @@ def draw_unit(streams, laws, steps, unit, scratch):
         for j in range(zp):
             dr[j] += common
     else:
-        draw_many(streams, laws, PIN_CIRCLE, dr, zp)
-        draw_many(streams, laws, PIN_PITCH, dt, zp)
-    draw_many(streams, laws, PIN_RADIUS, rho, zp)
-    draw_many(streams, laws, PIN_CLEARANCE, cl, zp)
+        draw_many(streams, laws, fa.pin_circle, dr, zp)
+        draw_many(streams, laws, fa.pin_pitch, dt, zp)
+    draw_many(streams, laws, fa.pin_radius, rho, zp)
+    draw_many(streams, laws, fa.pin_clearance, cl, zp)
     # the discs
     for d in range(discs):
-        unit.equidistance_um[d] = eq0 + draw(streams, laws, EQUIDISTANCE_ERROR)
-        unit.moving_distance_um[d] = md0 + draw(streams, laws, MOVING_DISTANCE_ERROR)
-        unit.runout_along_um[d] = 0.5 * draw(streams, laws, DISC_RUNOUT)
-        unit.runout_across_um[d] = 0.5 * draw(streams, laws, DISC_RUNOUT)
-        unit.eccentricity_error_um[d] = draw(streams, laws, CRANK_ECCENTRICITY)
+        unit.equidistance_um[d] = eq0 + draw(streams, laws, fa.equidistance_error)
+        unit.moving_distance_um[d] = md0 + draw(streams, laws, fa.moving_distance_error)
+        unit.runout_along_um[d] = 0.5 * draw(streams, laws, fa.disc_runout)
+        unit.runout_across_um[d] = 0.5 * draw(streams, laws, fa.disc_runout)
+        unit.eccentricity_error_um[d] = draw(streams, laws, fa.crank_eccentricity)
         if laws.long_wave:
-            standard_normals(streams, DISC_PITCH, laws.box_muller, z, 4 + zc)  # ux, uy, cx, cy, s_k
+            standard_normals(streams, fa.disc_pitch, laws.box_muller, z, 4 + zc)  # ux, uy, cx, cy, s_k
             s_c = scratch.tooth_element_um
             for k in range(zc):
                 s_c[k] = hd.element_um * z[4 + k]
@@ -250,5 +269,5 @@ def draw_unit(streams, laws, steps, unit, scratch):
                                      hd.second_um * z[3]), s_c, scratch.no_radial_um, scratch.tooth_harmonics,
                                 teeth[d], scratch.tooth_radial_um)
         else:
-            draw_many(streams, laws, DISC_PITCH, teeth[d], zc)
+            draw_many(streams, laws, fa.disc_pitch, teeth[d], zc)
     return UnitDraw(step, lin, last)
