@@ -68,6 +68,9 @@ TRANSLATION_ROUNDS = 60  # solve_pins' rounds (x solve, Newton step on the trans
 SUPPORT_MEMO = 24  # torques remembered by a support set (chain_angles' repeated calls)
 RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
 BOUND_CONTACTS = 6  # pins assumed to share +-T_R when bounding the rotation (prepare_pins)
+# Beam and shaft formulas are small-deflection theory: at the rated torque a crankshaft or a pillar
+# may deflect at most this share of its length, a crankshaft twist this many radians (rv80e: 1e-4)
+SMALL_DEFLECTION = 0.01
 
 
 class Chain(NamedTuple):
@@ -243,6 +246,22 @@ def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
                                                        st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
         pillar = cm.pillar_deflection_um_per_n(st.pillar_length_mm, st.pillar_width_mm, st.pillar_depth_mm,
                                                st.carrier_youngs_modulus_gpa, st.carrier_poisson_ratio)
+        crank_torque_nm = (c.rated_torque_nm / (geo.ratio * geo.centre_gear_pitch_radius_mm * 1e-3 * s1.planets)
+                           * geo.planet_pitch_radius_mm * 1e-3)  # each crank's, between planet and eccentrics
+        pillar_shear_n = k * c.rated_torque_nm / (2.0 * st.carrier_pillars * st.pillar_radius_mm * 1e-3)
+        twisted = "crankshaft_torsion_diameter_mm" if st.crankshaft_torsion_diameter_mm else "crankshaft_diameter_mm"
+        for name, part, share, unit in (
+                ("crankshaft_diameter_mm", "crankshaft bends",
+                 bend * c.rated_torque_nm * c.bearing_force_n_per_nm * 1e-3 / st.crankshaft_support_span_mm,
+                 "of its span"),
+                ("pillar_width_mm", "carrier pillar bends", pillar * pillar_shear_n * 1e-3 / st.pillar_length_mm,
+                 "of its length"),
+                (twisted, "crankshaft twists", twist * crank_torque_nm, "rad")):
+            if not share <= SMALL_DEFLECTION:
+                raise InputError(f"structure.{name}", getattr(st, name),
+                                 f"allowed: a part stiff enough for beam and shaft formulas (small deflections: at "
+                                 f"the rated torque at most {SMALL_DEFLECTION:g} of its length or {SMALL_DEFLECTION:g} "
+                                 f"rad); this {part} {share:.3g} {unit} at {c.rated_torque_nm:g} N m")
         changes.update(
             crank_compliance_rad_per_nm=(
                 cm.tangential_output_compliance_rad_per_nm(bend, k, nb_, a0)
