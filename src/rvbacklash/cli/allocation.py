@@ -3,7 +3,6 @@ meet a spec): flags to API parameters, results to tables, JSON, CSV, SVG and a d
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Optional
 
 import typer

@@ -8,7 +8,6 @@ import functools
 import math
 import sys
 from enum import Enum
-from pathlib import Path
 from typing import Callable, Iterator, Optional
 
 import typer

@@ -246,7 +246,6 @@ def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | No
     """
     t0 = time.perf_counter()
     outs = source.outputs
-    k = len(outs)
     limits_a = np.array(limits if limits is not None else [math.inf if o.upper_limit else -math.inf for o in outs],
                         dtype=float)
     upper = np.array([o.upper_limit for o in outs])
