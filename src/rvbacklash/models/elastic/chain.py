@@ -445,9 +445,9 @@ def prepare_pins(unit, c, every, table):
     if not every:  # fixed gaps: in closure order (set_load stops each run at its first open contact)
         order, npos, nneg = closure_order(gk, lk, keep)
         gk, lk, ak, rk, dk = gk[order], lk[order], ak[order], rk[order], dk[order]
-    translation = DiscTranslation(np.zeros(discs), np.zeros(discs), np.zeros(discs), np.zeros(discs), np.zeros(discs),
-                                  np.zeros(discs), np.zeros(discs), np.empty(keep), np.empty((discs, discs)),
-                                  np.empty(discs))
+    rows = np.zeros((7, discs))  # one allocation for the per-disc rows (a unit's evaluation allocates ~15 arrays)
+    translation = DiscTranslation(rows[0], rows[1], rows[2], rows[3], rows[4], rows[5], rows[6], np.empty(keep),
+                                  np.empty((discs, discs)), np.empty(discs))
     return PinSet(ContactSet(gk, lk, ak, set_bounds(gk, lk, keep), np.zeros(keep), npos, nneg), rk, dk, translation)
 
 
