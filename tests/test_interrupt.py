@@ -127,3 +127,48 @@ def test_a_sweep_keeps_its_points_on_disk_so_a_second_ctrl_c_stops_at_once():
         sys.exit(130)
     """)
     assert (p.returncode, p.stdout) == (130, "stop requested: True\nstopped at once\n") and p.stderr == ""
+
+
+def test_after_progress_a_ctrl_c_between_loops_keeps_the_finished_work():
+    """Between two loops, or after the last one (a report's later sections, the statistics, the
+    rendering), a press once work has finished used to end the process with 'nothing was written',
+    throwing that work away: it is a stop request (later loops start stopped), the command writes
+    what it has and ends with exit 130 (stop_was_requested)."""
+    p = _run("""
+        with interrupt.stop_requested():
+            interrupt.mark_progress()
+        ctrl_c()  # between loops
+        print("still running, stop requested:", interrupt.stop_was_requested(), flush=True)
+        with interrupt.stop_requested() as later:
+            print("later loop stopped:", later.is_set(), flush=True)
+        with interrupt.writing():
+            print("written", flush=True)
+    """)
+    assert p.returncode == 0 and "Traceback" not in p.stderr  # the caller (cli.entry) turns the request into 130
+    assert p.stdout == "still running, stop requested: True\nlater loop stopped: True\nwritten\n"
+
+
+def test_a_failed_write_lets_its_error_through_after_a_ctrl_c():
+    """A press during a write that then fails: the command's error (one line, exit 2) is what the
+    user sees, not 'interrupted after the files were written'."""
+    p = _run("""
+        try:
+            with interrupt.writing():
+                ctrl_c()
+                raise ValueError("disk full")
+        except ValueError as e:
+            print("error:", e, flush=True)
+            sys.exit(2)
+    """)
+    assert (p.returncode, p.stdout.strip()) == (2, "error: disk full")
+
+
+def test_the_command_line_exits_130_when_a_finished_run_was_stopped(monkeypatch, capsys):
+    """cli.entry: a command that returned normally after a stop request exits 130."""
+    from rvbacklash.cli import entry
+
+    monkeypatch.setattr(entry, "app", lambda **kwargs: 0)
+    monkeypatch.setattr(entry, "stop_was_requested", lambda: True)
+    with pytest.raises(SystemExit) as e:
+        entry.main(["simulate", "rv80e"])
+    assert e.value.code == 130 and "interrupted: what was finished is written" in capsys.readouterr().err

@@ -41,6 +41,8 @@ COMMANDS: list[tuple[str, list[str]]] = [
                              "--spec-arcmin", "3"]),
     ("contact.json", ["simulate", "rv80e", "--model", "contact", "-n", "20000|4000", "--seed", "1", "--spec-arcmin", "3",
                       "--save-units", "4", "contact-units.toml"]),
+    ("contact-box-muller.json", ["simulate", "rv80e", "--model", "contact", "--method", "box-muller", "-n", "8000|2000",
+                                 "--seed", "4", "--spec-arcmin", "3"]),
     ("contact-independent.json", ["simulate", "rv80e", "--model", "contact", "--error-model", "independent",
                                   "-n", "8000|2000", "--seed", "2", "--spec-preload-um", "10"]),
     ("contact-te.json", ["simulate", "rv80e", "--model", "contact", "-n", "1000|300", "--seed", "3",
@@ -53,6 +55,7 @@ COMMANDS: list[tuple[str, list[str]]] = [
     ("hysteresis.json", ["hysteresis", "rv80e"]),
     ("hysteresis-unit.json", ["hysteresis", "rv80e", "--measured", "elastic-units.toml", "--unit", "1"]),
     ("transmission-error.json", ["transmission-error", "rv80e"]),
+    ("transmission-error-fine.json", ["transmission-error", "rv80e", "--positions", "5000"]),  # solved in parts
     ("transmission-error-unit.json", ["transmission-error", "rv80e", "--measured", "contact-units.toml",
                                       "--unit", "2"]),
     ("contact-nominal.json", ["contact", "rv80e", "--crank-angle-deg", "3"]),
@@ -76,11 +79,12 @@ def run_side(src: Path, out: Path, quick: bool) -> None:
         print(f"  {src.parent.name}: {name}", file=sys.stderr)
 
 
-def strip_timings(x):
+def strip_timings(x, ignore: frozenset[str] = frozenset()):
+    """The JSON value without the fields that time a run (and those in ``ignore``), at any depth."""
     if isinstance(x, dict):
-        return {k: strip_timings(v) for k, v in x.items() if k not in TIMING_KEYS}
+        return {k: strip_timings(v, ignore) for k, v in x.items() if k not in TIMING_KEYS | ignore}
     if isinstance(x, list):
-        return [strip_timings(v) for v in x]
+        return [strip_timings(v, ignore) for v in x]
     return x
 
 
@@ -109,7 +113,7 @@ def first_difference(a, b, path: str = "") -> str | None:
     return None
 
 
-def compare_dirs(a: Path, b: Path) -> int:
+def compare_dirs(a: Path, b: Path, ignore: frozenset[str] = frozenset()) -> int:
     failures = 0
     names = sorted(({p.name for p in a.iterdir()} | {p.name for p in b.iterdir()}) - {".complete"})
     names = [n for n in names if not n.endswith(".html")]  # a page shows its run's time: its JSON is compared
@@ -120,8 +124,8 @@ def compare_dirs(a: Path, b: Path) -> int:
             failures += 1
             continue
         if name.endswith(".json"):
-            ja = strip_timings(json.loads(pa.read_text(), parse_constant=float))
-            jb = strip_timings(json.loads(pb.read_text(), parse_constant=float))
+            ja = strip_timings(json.loads(pa.read_text(), parse_constant=float), ignore)
+            jb = strip_timings(json.loads(pb.read_text(), parse_constant=float), ignore)
             diff = first_difference(ja, jb)
         else:
             diff = None if pa.read_bytes() == pb.read_bytes() else "bytes differ"
@@ -171,14 +175,17 @@ def main() -> int:
     p.add_argument("base", help="a commit (e.g. 59154fd)")
     p.add_argument("other", nargs="?", default="WORKTREE", help="a commit, or WORKTREE (this checkout)")
     p.add_argument("--quick", action="store_true", help="smaller runs (a check while working)")
+    p.add_argument("--ignore", action="append", default=[], metavar="KEY",
+                   help="a JSON key whose change is intended (e.g. schema_version), at any depth; repeatable")
     args = p.parse_args()
     with tempfile.TemporaryDirectory(prefix="rvb-compare-") as t:
         tmp = Path(t)
         a = outputs_of(args.base, args.quick, tmp)
         b = outputs_of(args.other, args.quick, tmp)
-        failures = compare_dirs(a, b)
+        failures = compare_dirs(a, b, frozenset(args.ignore))
     print(f"{'all identical' if not failures else f'{failures} output(s) differ'} "
-          f"({args.base} vs {args.other}{', quick sizes' if args.quick else ''})")
+          f"({args.base} vs {args.other}{', quick sizes' if args.quick else ''}"
+          f"{', ignoring ' + ', '.join(args.ignore) if args.ignore else ''})")
     return 1 if failures else 0
 
 

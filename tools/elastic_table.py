@@ -51,7 +51,7 @@ def main() -> None:
             u = el.ElasticUnit(units.gap_um[i], units.lever_um_per_rad[i], float(units.chi_rad[i]),
                                float(units.involute_backlash_rad[i]), float(units.crank_clearance_um[i]))
             fig = el.PreparedUnit(model, u).figures()
-            shares += fig[3:el.SHARES]
+            shares += fig[el.ELEMENT_LOST_MOTION:el.SHARES]
             compliance += fig[el.SHARES:] / fig[el.SHARES:].sum()
         total = shares.sum()
         print(f"share of the mean lost motion ({a.share_units} units): "

@@ -56,7 +56,7 @@ def njit_borrowing(**options):
     """``njit`` for a per-unit kernel that allocates nothing and only reads and writes arrays its
     caller holds (``unit_draw.draw_unit``, ``contact.stage_play``, ``elastic.chain.loop_figures``),
     compiled without numba's runtime (its ``_nrt=False`` option): its own code keeps no reference
-    counts. Each call of such a kernel binds a few dozen arrays (its scratch tuple, its
+    counts. Each call of such a kernel binds a few dozen arrays (its scratch records, its
     arguments), two atomic operations each that numba could not prune in a function this size:
     ~1 us of the contact model's ~4.9 us per unit (draw_unit alone went from 1.75 to 1.0 us),
     ~2 us of the elastic model's ~23 us of evaluation.

@@ -16,8 +16,8 @@ command starts) and every SIGINT goes through it:
 
 1. While no loop has finished any work (``mark_progress`` not yet called: the modules import,
    numba compiles its kernels or loads them from its cache, the design is read, or a first block
-   is under way, perhaps compiling in a worker thread), and whenever no stop window is open, the
-   process ends at once: one line on stderr, the standard streams flushed, ``os._exit(130)``.
+   is under way, perhaps compiling in a worker thread), the process ends at once: one line on
+   stderr, the standard streams flushed, ``os._exit(130)``.
    Raising KeyboardInterrupt instead is not safe there: it lands wherever the main thread is,
    e.g. inside numba's compiler or a half-done lazy import (``from scipy import stats``), which
    then fails later with an unrelated error (``no compiled object yet``, a ``NameError``, exit
@@ -25,8 +25,11 @@ command starts) and every SIGINT goes through it:
    its kernel in a worker can take a minute. Ending the process is clean because nothing is
    half-written at those moments: result files are written only after the run (the next point),
    atomically, and numba writes its cache files atomically too.
-2. Inside a stop window once work has finished: the stop request above, and the process is
-   committed to writing the partial results (the command then exits 130). Further Ctrl-C are
+2. Once work has finished: the stop request above (every open window, and every window that opens
+   later, stops its loop), and the process is committed to writing what it has, marked partial
+   where a loop stopped early; the command then exits 130 (``stop_was_requested``) — also when the
+   press came between loops or after the last one (the report's later sections, the statistics,
+   the rendering), where ending the process would throw finished work away. Further Ctrl-C are
    ignored, with a note: a second press must not break the writing of what the first one asked
    to keep (it used to land in the finishing code's lazy imports and lose everything).
 3. While files are written (``writing``, which ``atomic.atomic_write`` and the report layer's
@@ -76,15 +79,15 @@ def _on_sigint(signum, frame) -> None:
             _windows[-1].set()
         return
     if s["stopping"]:
-        if s["on_disk"]:
-            raise KeyboardInterrupt  # the finished work is on disk: stop now
+        if s["on_disk"] and not s["writing"]:
+            raise KeyboardInterrupt  # the finished work is on disk (and no file is half-written): stop now
         if not s["told"]:
             s["told"] = True
             with contextlib.suppress(Exception):
                 sys.stderr.write("\nstopping: the finished part is being written, marked partial (Ctrl-C again is "
                                  "ignored until then)\n")
         return
-    if _windows and s["progress"]:
+    if s["progress"]:
         s["stopping"] = True
         for ev in _windows:  # every loop under way stops (an outer loop would not start its next item)
             ev.set()
@@ -130,17 +133,25 @@ def mark_progress(on_disk: bool = False) -> None:
     _state["on_disk"] = _state["on_disk"] or on_disk
 
 
+def stop_was_requested() -> bool:
+    """A Ctrl-C asked the command to stop once work had finished (point 2): it exits 130."""
+    return bool(_state["stopping"])
+
+
 @contextlib.contextmanager
 def writing() -> Iterator[None]:
     """Files are being written: a Ctrl-C waits until the outermost such section is done (with the
-    command line's handler; otherwise nothing changes)."""
+    command line's handler; otherwise nothing changes). The deferred exit happens only after a
+    section that completed: one that fails lets its error (the command's one-line message) through."""
     s = _state
     s["writing"] += 1
+    completed = False
     try:
         yield
+        completed = True
     finally:
         s["writing"] -= 1
-        if s["writing"] == 0 and s["deferred"] and s["cli"]:
+        if completed and s["writing"] == 0 and s["deferred"] and s["cli"]:
             _exit_now("interrupted after the files were written")
 
 

@@ -67,9 +67,9 @@ def test_measured_unit_with_kinematics(tmp_path):
 
 
 @pytest.mark.parametrize("args, fragment", [
-    (("--positions", "100"), "positions"),
-    (("--load-direction", "up"), "load_direction"),
-    (("--unit", "0"), "unit"),
+    (("--positions", "100"), "--positions = 100"),
+    (("--load-direction", "up"), "--load-direction = 'up'"),
+    (("--unit", "0"), "--unit = 0"),
 ])
 def test_bad_input_is_one_line(tmp_path, args, fragment):
     out = tmp_path / "te.json"
@@ -83,3 +83,20 @@ def test_bad_kinematics_shape_names_the_field():
     with pytest.raises(Exception) as e:
         units_from_toml(bad, design)
     assert "kinematics.planet_eccentricity_um" in str(e.value)
+
+
+def test_a_saved_transmission_unit_runs_in_every_measured_unit_command(tmp_path):
+    """--save-units with the transmission model writes each unit with its kinematic errors; the file
+    names the command that re-runs a unit (transmission-error), and the models that do not read
+    kinematic errors take the same file (regression: contact and hysteresis crashed on them)."""
+    units = tmp_path / "te.toml"
+    p = run_cli("simulate", "rv80e", "--model", "transmission", "-n", "20", "--seed", "3", "--save-units", "3", units,
+                "-q")
+    assert p.returncode == 0, p.stderr
+    text = units.read_text()
+    assert text.count("[unit.kinematics]") == 3 and "re-run one: rvbacklash transmission-error rv80e" in text
+    for command in ("transmission-error", "contact", "hysteresis"):
+        out = tmp_path / f"{command}.json"
+        p = run_cli(command, "rv80e", "--measured", units, "--unit", "1", "--json", out, "-q")
+        assert p.returncode == 0 and "Traceback" not in p.stderr, (command, p.stderr[-2000:])
+        assert json.loads(out.read_text())["schema_version"]

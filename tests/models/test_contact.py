@@ -11,7 +11,8 @@ from rvbacklash.analysis.simulation import simulate
 from rvbacklash.design.loading import design_from_toml
 from rvbacklash.factors.catalog import factor_by_key
 from rvbacklash.geometry.cycloid import PinCentreCurve, rotate
-from rvbacklash.models.contact import Realization, exact_play, kernel_play, mesh_table
+from rvbacklash.models.contact import exact_play, kernel_play, mesh_table
+from rvbacklash.models.unit_errors import Realization
 from rvbacklash.problem import derive_geometry, prepare
 
 

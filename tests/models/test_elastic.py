@@ -287,7 +287,7 @@ def test_linear_chain_with_dead_band_in_closed_form(problem, model):
         dead + ((xt - tf) / (1 + mu) + (xt + tf) / (1 - mu)) / k, rel=1e-9)
     assert fig[el.BACKLASH] / ARCMIN_PER_RAD == pytest.approx(dead + 2 * tf / ((1 - mu) * k), rel=1e-9)
     assert fig[el.RIGIDITY] * ARCMIN_PER_RAD == pytest.approx((1 + mu) * k, rel=1e-9)
-    assert sum(fig[3:el.SHARES]) == pytest.approx(fig[el.LOST_MOTION], rel=1e-12)
+    assert sum(fig[el.ELEMENT_LOST_MOTION:el.SHARES]) == pytest.approx(fig[el.LOST_MOTION], rel=1e-12)
 
 
 def test_rigid_limit_recovers_the_contact_model(problem, model):
@@ -353,7 +353,7 @@ def test_core_equals_the_prepared_unit_and_batches(problem, model):
         one = np.empty(el.N_FIGURES)
         el.unit_hysteresis(u, el.loop_design(model), one)
         np.testing.assert_allclose(one, fig, rtol=1e-9)
-        assert sum(fig[3:el.SHARES]) == pytest.approx(fig[0], rel=1e-12)
+        assert sum(fig[el.ELEMENT_LOST_MOTION:el.SHARES]) == pytest.approx(fig[0], rel=1e-12)
 
 
 def test_the_elastic_model_draws_the_contact_models_units(problem):

@@ -79,8 +79,6 @@ def test_fast_path_tracks_the_exact_solve(problem):
 def test_bad_input(problem):
     with pytest.raises(InputError, match="method"):
         transmission_source(problem, "sobol", 1)
-    with pytest.raises(InputError, match="save_units"):  # the first units are saved from a block's first chunk
-        transmission_source(problem, "default", 1, save_units=te_source.CHUNK + 1)
 
 
 def test_sobol_streams_of_te_name_the_kinematic_factors(problem):

@@ -26,9 +26,9 @@ from rvbacklash.analysis.contact import unit_realization
 from rvbacklash.design.measured import load_units
 from rvbacklash.errors import InputError
 from rvbacklash.models import compliance as cm
-from rvbacklash.models.elastic import (BACKLASH, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE, SHARES, ElasticModel,
-                                       ElasticUnit, PreparedUnit, elastic_model, nominal_unit, other_stages_nominal,
-                                       unit_from_realization)
+from rvbacklash.models.elastic import (BACKLASH, ELEMENT_LOST_MOTION, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE,
+                                       SHARES, ElasticModel, ElasticUnit, PreparedUnit, elastic_model, nominal_unit,
+                                       other_stages_nominal, unit_from_realization)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -194,7 +194,7 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         design_name=problem.name, unit=label, rated_torque_nm=tr, measuring_torque_fraction=c.measuring_fraction,
         rigidity_interval_fraction=(c.rigidity_low, c.rigidity_high), lost_motion_arcmin=float(fig[LOST_MOTION]),
         backlash_arcmin=float(fig[BACKLASH]), torsional_rigidity_nm_per_arcmin=float(fig[RIGIDITY]),
-        lost_motion_share_arcmin={k: float(v) for k, v in zip(ELEMENTS, fig[3:])},
+        lost_motion_share_arcmin={k: float(v) for k, v in zip(ELEMENTS, fig[ELEMENT_LOST_MOTION:SHARES])},
         dead_band_arcmin={k: float(v * ARCMIN_PER_RAD) for k, v in zip(ELEMENTS, free)},
         compliance_share={k: float(v / total) if total > 0 else 0.0 for k, v in zip(ELEMENTS, spans)},
         element_stiffness_nm_per_arcmin={k: float(torque_span / v) if v > 0 else None for k, v in zip(ELEMENTS, spans)},

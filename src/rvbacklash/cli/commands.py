@@ -19,6 +19,11 @@ from rvbacklash.cli.transmission import SPEC_TE_OPTION, te_model_and_specs
 from rvbacklash.errors import InputError
 
 
+
+# the command that re-runs a saved unit alone to the run's figures (the transmission model's: its TE curve on
+# the exact geometry, within 0.2 % of the run's at its 8 z_p positions)
+RERUN_SAVED_UNIT = {"contact": "contact", "elastic": "hysteresis", "transmission": "transmission-error"}
+
 @app.command()
 @command
 def analyze(
@@ -94,8 +99,8 @@ def simulate(
 
         return units_to_toml(api.measured_units(problem, result),
                              f"{len(result.units)} units of `rvbacklash simulate {design} --model {model} --seed {seed}`"
-                             f"\n(design {problem.name}); re-run one: rvbacklash "
-                             f"{'hysteresis' if model == 'elastic' else 'contact'} {design} --measured FILE --unit K")
+                             f"\n(design {problem.name}); re-run one: rvbacklash {RERUN_SAVED_UNIT[model]} {design} "
+                             f"--measured FILE --unit K")
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows), "--save-units": units_toml},
                lambda: tables.print_simulation(result, stdout_console()), data, rows)
     if result.partial:

@@ -28,7 +28,8 @@ FLAGS = {
     "allocate_samples": "--allocate-samples",
     "spec_lost_motion_arcmin": "--spec-lost-motion-arcmin", "spec_rigidity_nm_per_arcmin": "--spec-rigidity-nm-per-arcmin",
     "spec_preload_um": "--spec-preload-um", "sweep_dir": "--sweep",
-    "points": "--points",
+    "points": "--points", "positions": "--positions", "load_direction": "--load-direction",
+    "spec_te_arcsec": "--spec-te-arcsec",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 

@@ -18,7 +18,7 @@ import rvbacklash.cli.hysteresis  # noqa: F401  (hysteresis)
 import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 import rvbacklash.cli.transmission  # noqa: F401  (transmission-error)
 from rvbacklash.cli.app import app
-from rvbacklash.interrupt import EXIT_CODE
+from rvbacklash.interrupt import EXIT_CODE, stop_was_requested
 
 
 def _argv_value(flags: list[str], argv: list[str]) -> str | None:
@@ -70,4 +70,8 @@ def main(argv: list[str] | None = None) -> None:
         code = EXIT_CODE
     except BrokenPipeError:  # e.g. `rvbacklash ... | head`
         code = 0
-    sys.exit(code if isinstance(code, int) else 0)
+    code = code if isinstance(code, int) else 0
+    if code == 0 and stop_was_requested():  # a Ctrl-C after work had finished: written, then 130
+        sys.stderr.write("interrupted: what was finished is written\n")
+        code = EXIT_CODE
+    sys.exit(code)

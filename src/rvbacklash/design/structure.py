@@ -88,7 +88,7 @@ class StructureInputs(_Strict):
     crankshaft_torsion_diameter_mm: float | None = Field(
         None, gt=0, le=1000, description="crankshaft: diameter of the section that twists [mm]; default "
                                          "crankshaft_diameter_mm")
-    shaft_youngs_modulus_gpa: float = Field(206.0, gt=0, le=1000,
+    shaft_youngs_modulus_gpa: float = Field(206.0, ge=1, le=1000,
                                             description="Young's modulus of the crankshafts [GPa] (steel: 206)")
     shaft_poisson_ratio: float = Field(0.3, ge=0, lt=0.5, description="Poisson's ratio of the crankshafts [-]")
 
@@ -111,7 +111,7 @@ class StructureInputs(_Strict):
     pillar_width_mm: float = Field(gt=0, le=1000, description="pillar section, tangential width w [mm] (the "
                                                               "direction it bends in)")
     pillar_depth_mm: float = Field(gt=0, le=1000, description="pillar section, radial depth h [mm]")
-    carrier_youngs_modulus_gpa: float = Field(206.0, gt=0, le=1000,
+    carrier_youngs_modulus_gpa: float = Field(206.0, ge=1, le=1000,
                                               description="Young's modulus of the carrier [GPa] (steel: 206; "
                                                           "ductile iron: ~170)")
     carrier_poisson_ratio: float = Field(0.3, ge=0, lt=0.5, description="Poisson's ratio of the carrier [-]")
@@ -161,14 +161,16 @@ class StructureInputs(_Strict):
 def _ratio(field: str, size: float, length_field: str, length: float, what: str,
            lowest: float = DEPTH_RATIO_MIN) -> None:
     """A beam's length over its section's size within [lowest, SLENDERNESS_MAX] (module docstring);
-    the error names the section field (``size``) with the sizes allowed for that length."""
+    the error names the section field (``size``) with the sizes allowed for that length and, for a
+    beam too slender, the lengths allowed for that size (either may be the one to change)."""
     if lowest * size <= length <= SLENDERNESS_MAX * size:
         return
     smallest = length / SLENDERNESS_MAX
-    if lowest > 0:
-        allowed = f"{lowest:g} <= {what} <= {SLENDERNESS_MAX:g}, i.e. {field} {smallest:.4g} to {length / lowest:.4g}"
+    if length > SLENDERNESS_MAX * size:
+        allowed = (f"{what} <= {SLENDERNESS_MAX:g}, i.e. {field} >= {smallest:.4g} or {length_field} <= "
+                   f"{SLENDERNESS_MAX * size:.4g}")
     else:
-        allowed = f"{what} <= {SLENDERNESS_MAX:g}, i.e. {field} >= {smallest:.4g}"
+        allowed = f"{lowest:g} <= {what}, i.e. {field} <= {length / lowest:.4g}"
     raise InputError(field, size, f"{what} = {length / size:.4g} ({length_field} = {length:g}); allowed: {allowed}")
 
 

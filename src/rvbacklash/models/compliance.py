@@ -439,6 +439,28 @@ def pillar_deflection_um_per_n(length_mm: float, width_mm: float, depth_mm: floa
     return (length_mm ** 3 / (12.0 * e * inertia) + length_mm / (rectangular_shear_coefficient(nu) * g * area)) * 1e3
 
 
+def crank_torque_nm(output_torque_nm: float, planet_radius_mm: float, centre_gear_radius_mm: float, ratio: float,
+                    planets: int) -> float:
+    """Torque each crankshaft carries between its planet gear and its eccentrics, input locked:
+
+        T_c = r_2 T / (i r_1 n)
+
+    Each of the n planets carries F_t = T / (i r_1 n) (``mesh_torsional_stiffness_nm_per_rad``), its
+    crank the torque F_t r_2 (``crank_torsion_output_compliance_rad_per_nm``). Source: ours (the
+    lever arms of Eq. (1), docs/model.md). Parameters: output torque T [N m], pitch radii r_2
+    (planet), r_1 (centre gear) [mm], ratio i [-], planets n [-]. Returns [N m]. Validity: equal
+    load sharing of the planets."""
+    return planet_radius_mm * output_torque_nm / (ratio * centre_gear_radius_mm * planets)
+
+
+def pillar_shear_force_n(output_torque_nm: float, lever_factor: float, pillars: int, pillar_radius_mm: float) -> float:
+    """Shear force in each carrier pillar: V = k T / (2 n_p R_p) (``carrier_output_compliance_rad_per_nm``:
+    the pillars carry half the cranks' torque k T from the end plate to the flange). Source: ours
+    (docs/elastic.md). Parameters: output torque T [N m], lever_factor k [-], pillars n_p [-], their
+    pitch radius R_p [mm]. Returns [N]."""
+    return lever_factor * output_torque_nm / (2.0 * pillars * pillar_radius_mm * 1e-3)
+
+
 def carrier_output_compliance_rad_per_nm(pillar_um_per_n: float, pillars: int, pillar_radius_mm: float,
                                          lever_factor: float) -> float:
     """Output compliance of the carrier's wind-up (end plate against output flange):

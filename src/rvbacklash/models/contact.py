@@ -160,6 +160,30 @@ class Turn(NamedTuple):
     sign: float
 
 
+@njit(nogil=True, cache=True, inline="always")
+def crank_step_angle_rad(step, zp, steps):
+    """The crank angle of step ``step`` of ``steps`` per pin pitch (the geometry repeats every pin
+    pitch; a production run measures each unit at one of them): chi = 2 pi / z_p (step + 1/2) /
+    steps [rad]."""
+    return 2.0 * math.pi / zp * (step + 0.5) / steps
+
+
+@njit(nogil=True, cache=True, inline="always")
+def pin_base_um(unit, d, j):
+    """The part of pin j's gap to disc d [um] that does not depend on where the pin sits: the disc's
+    equidistance modification, less the pin's radius error, plus half its hole's clearance."""
+    return unit.equidistance_um[d] - unit.pin_radius_um[j] + 0.5 * unit.pin_clearance_um[j]
+
+
+@njit(nogil=True, cache=True, inline="always")
+def recorded_stage(play):
+    """The cycloid stage as a run records a unit's (``--save-units``): its play [arcmin] from a
+    StagePlay, or -preload [um] when preloaded."""
+    if math.isnan(play.play_ccw_rad):
+        return -play.preload_um
+    return (play.play_ccw_rad + play.play_cw_rad) * ARCMIN_PER_RAD
+
+
 @njit(nogil=True, cache=True)
 def stage_work(discs, zp):
     """Scratch space of stage_play and unit_gaps."""
@@ -285,8 +309,7 @@ def exact_gap_um(j, d, beta, chi, stage, unit, t0):
     in the disc frame, its signed distance from the modified pin-centre curve (the compiled form
     of ``exact_gaps_um``, one pin at a time)."""
     px, py = pin_frame(j, d, chi, stage, unit)
-    base = unit.equidistance_um[d] - unit.pin_radius_um[j] + 0.5 * unit.pin_clearance_um[j]
-    return turned_gap(px, py, beta, base, stage.a_mm, stage.rp_mm + unit.moving_distance_um[d] * 1e-3, stage.zc,
+    return turned_gap(px, py, beta, pin_base_um(unit, d, j), stage.a_mm, stage.rp_mm + unit.moving_distance_um[d] * 1e-3, stage.zc,
                       t0)[0]
 
 
@@ -555,7 +578,7 @@ def unit_gaps(coef, stage, unit, gaps, work):
             ox = ox_[j] + mdd * 1e-3 * eux[j]
             oy = oy_[j] + mdd * 1e-3 * euy[j]
             dist = math.sqrt((qx - ox) * (qx - ox) + (qy - oy) * (qy - oy))
-            base = eqd - rho[j] + 0.5 * cl[j]
+            base = eqd - rho[j] + 0.5 * cl[j]  # pin_base_um, hoisted (the loop runs four pins at a time)
             gap_d[j] = base + side[j] * (dist - rho_c[j]) * 1e3
             lever_d[j] = side[j] * (qy * ox - qx * oy) / dist * 1e3
             tgt[j] = rho_c[j] - side[j] * base * 1e-3  # the distance D at which the gap is 0
@@ -650,7 +673,7 @@ def stage_play(coef, stage, unit, gaps, work, play=True):
                     if x > ref * (1.0 + band) or (rnd == 1 and x <= first * (1.0 + band)):
                         continue
                     px, py = qx_[d, j], qy_[d, j]  # its centre as unit_gaps placed it (pin_frame's, from the table)
-                    base = unit.equidistance_um[d] - unit.pin_radius_um[j] + 0.5 * unit.pin_clearance_um[j]
+                    base = pin_base_um(unit, d, j)
                     f1, s1, t1 = turned_gap(px, py, bc + sgn * x, base, a, rg, zc, coef[T0, d, j])
                     if s1 != 0.0:
                         x -= f1 / (sgn * s1)

@@ -46,8 +46,8 @@ from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH, PinGaps,
-                                      StageWork, _linear_maxmin, free_interval_bounds, mesh_table, stage_play,
-                                      stage_work)
+                                      StageWork, _linear_maxmin, free_interval_bounds, mesh_table, pin_gaps,
+                                      stage_play, stage_work)
 from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
 
@@ -251,12 +251,12 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
             mean += dchi[k]
         mean /= planets
         w = -(chi - chi0) * zp / zc  # disc-fixed vectors against the eccentric
-        cw, sw = math.cos(w), math.sin(w)
+        cos_w, sin_w = math.cos(w), math.sin(w)
         for d in range(discs):
             rel = chi + 2.0 * math.pi * d / discs + chi / zc  # the eccentric's direction in the carrier frame
             cr, sr = math.cos(rel), math.sin(rel)
-            ux[d] = cw * ux0[d] - sw * uy0[d] + shift_um[d, 0] * cr + shift_um[d, 1] * sr
-            uy[d] = sw * ux0[d] + cw * uy0[d] - shift_um[d, 0] * sr + shift_um[d, 1] * cr + a * mean * 1e3
+            ux[d] = cos_w * ux0[d] - sin_w * uy0[d] + shift_um[d, 0] * cr + shift_um[d, 1] * sr
+            uy[d] = sin_w * ux0[d] + cos_w * uy0[d] - shift_um[d, 0] * sr + shift_um[d, 1] * cr + a * mean * 1e3
             turn = turn_rad[d]
             for k in range(planets):  # the cranks' differences turn the disc (crank_fit with a d chi_k e_perp)
                 turn += a * (dchi[k] - mean) * math.cos(rel - 2.0 * math.pi * k / planets) / (planets * crank_radius_mm)
@@ -264,11 +264,11 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
                 teeth[d, k] = teeth0[d, k] + turn * rp * 1e3
         if exact:
             play = stage_play(coef[n], stage, placed, gaps, scratch.work)
-            free, ccw, cw_, preload = not math.isnan(play.play_ccw_rad), play.play_ccw_rad, play.play_cw_rad, \
+            free, ccw, cw, preload = not math.isnan(play.play_ccw_rad), play.play_ccw_rad, play.play_cw_rad, \
                 play.preload_um
         else:
             lo, hi, flat = free_interval(coef[n], stage, scratch.pins, placed, gaps, scratch.work.pin_tooth_pitch_um[0])
-            free, ccw, cw_, preload = not (hi < lo or flat < 0.0), hi, -lo, 0.0
+            free, ccw, cw, preload = not (hi < lo or flat < 0.0), hi, -lo, 0.0
         if not free:
             b = _linear_maxmin(gaps, np.inf, np.inf)
             curve.ccw_rad[n] = b
@@ -276,7 +276,7 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
             curve.preload_um[n] = preload
         else:
             curve.ccw_rad[n] = ccw
-            curve.cw_rad[n] = -cw_
+            curve.cw_rad[n] = -cw
             curve.preload_um[n] = 0.0
 
 
@@ -284,7 +284,7 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
 def curve_scratch(zp, zc, discs, planets):
     """Scratch of te_curve (CurveScratch)."""
     return CurveScratch(np.empty((discs, zc)), np.empty(discs), np.empty(discs), np.empty(planets),
-                        PinGaps(np.empty((discs, zp)), np.empty((discs, zp))), stage_work(discs, zp),
+                        pin_gaps(discs, zp), stage_work(discs, zp),
                         HousingPins(np.empty(zp), np.empty(zp), np.empty(zp)), np.empty((discs, 2)), np.empty(discs))
 
 

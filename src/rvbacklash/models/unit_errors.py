@@ -83,29 +83,41 @@ class UnitErrors(NamedTuple):
 
 
 def unit_errors(r: Realization, planets: int = 0) -> UnitErrors:
-    """The record of a Realization (contiguous float arrays; kinematic errors it leaves out are
-    zero, for ``planets`` cranks: 0 for the models that do not read them)."""
+    """The record of a Realization (contiguous float arrays) with its kinematic errors for
+    ``planets`` cranks (those it leaves out are zero); ``planets`` = 0 for the models that do not
+    read them: none are kept, whatever the unit has."""
     discs = np.shape(r.tooth_pitch_um)[0]
 
-    def arr(v, shape=None) -> np.ndarray:
-        if v is None:
+    def arr(v) -> np.ndarray:
+        return np.ascontiguousarray(np.asarray(v, dtype=float))
+
+    def kinematic(v, shape) -> np.ndarray:
+        if v is None or planets == 0:
             return np.zeros(shape)
-        v = np.asarray(v, dtype=float)
-        return np.ascontiguousarray(v if shape is None else np.broadcast_to(v, shape))
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), shape))
 
     runout = np.asarray(r.runout_um, dtype=float)
-    return UnitErrors(arr(r.pin_radial_um), arr(r.pin_tangential_um), arr(r.pin_radius_um), arr(r.pin_clearance_um),
-                      arr(r.tooth_pitch_um), arr(r.equidistance_um), arr(r.moving_distance_um), arr(runout[:, 0]),
-                      arr(runout[:, 1]), arr(r.eccentricity_error_um), arr(r.centre_gear_eccentricity_um, (2,)),
-                      arr(r.planet_eccentricity_um, (planets, 2)), arr(r.disc_crank_hole_um, (discs, planets, 2)),
-                      arr(r.carrier_crank_hole_um, (planets, 2)))
+    return UnitErrors(
+        pin_radial_um=arr(r.pin_radial_um), pin_tangential_um=arr(r.pin_tangential_um),
+        pin_radius_um=arr(r.pin_radius_um), pin_clearance_um=arr(r.pin_clearance_um),
+        tooth_pitch_um=arr(r.tooth_pitch_um), equidistance_um=arr(r.equidistance_um),
+        moving_distance_um=arr(r.moving_distance_um), runout_along_um=arr(runout[:, 0]),
+        runout_across_um=arr(runout[:, 1]), eccentricity_error_um=arr(r.eccentricity_error_um),
+        centre_gear_eccentricity_um=kinematic(r.centre_gear_eccentricity_um, (2,)),
+        planet_eccentricity_um=kinematic(r.planet_eccentricity_um, (planets, 2)),
+        disc_crank_hole_um=kinematic(r.disc_crank_hole_um, (discs, planets, 2)),
+        carrier_crank_hole_um=kinematic(r.carrier_crank_hole_um, (planets, 2)))
 
 
 def empty_units(n: int, zp: int, zc: int, discs: int, planets: int) -> UnitErrors:
     """A batch of n units to draw into (``store_unit``)."""
-    return UnitErrors(*(np.empty((n, zp)) for _ in range(4)), np.empty((n, discs, zc)),
-                      *(np.empty((n, discs)) for _ in range(5)), np.empty((n, 2)), np.empty((n, planets, 2)),
-                      np.empty((n, discs, planets, 2)), np.empty((n, planets, 2)))
+    pins, per_disc = (lambda: np.empty((n, zp))), (lambda: np.empty((n, discs)))
+    return UnitErrors(
+        pin_radial_um=pins(), pin_tangential_um=pins(), pin_radius_um=pins(), pin_clearance_um=pins(),
+        tooth_pitch_um=np.empty((n, discs, zc)), equidistance_um=per_disc(), moving_distance_um=per_disc(),
+        runout_along_um=per_disc(), runout_across_um=per_disc(), eccentricity_error_um=per_disc(),
+        centre_gear_eccentricity_um=np.empty((n, 2)), planet_eccentricity_um=np.empty((n, planets, 2)),
+        disc_crank_hole_um=np.empty((n, discs, planets, 2)), carrier_crank_hole_um=np.empty((n, planets, 2)))
 
 
 @njit(nogil=True, cache=True)
@@ -169,11 +181,14 @@ def realization_at(batch: UnitErrors, s: int, chi_rad: float, **rest) -> Realiza
     """Unit s of a batch as a Realization (copies), at crank angle chi_rad; ``rest``: the
     Realization's other fields (e.g. crank_clearance_um)."""
     u = UnitErrors(*(np.array(a[s]) for a in batch))
-    kinematic = u.planet_eccentricity_um.shape[0] > 0
-    return Realization(chi_rad, u.pin_radial_um, u.pin_tangential_um, u.pin_radius_um, u.pin_clearance_um,
-                       u.tooth_pitch_um, np.stack([u.runout_along_um, u.runout_across_um], axis=1),
-                       u.eccentricity_error_um, u.equidistance_um, u.moving_distance_um,
-                       centre_gear_eccentricity_um=u.centre_gear_eccentricity_um if kinematic else None,
-                       planet_eccentricity_um=u.planet_eccentricity_um if kinematic else None,
-                       disc_crank_hole_um=u.disc_crank_hole_um if kinematic else None,
-                       carrier_crank_hole_um=u.carrier_crank_hole_um if kinematic else None, **rest)
+    kinematic = u.planet_eccentricity_um.shape[0] > 0  # drawn (the transmission model's units)
+    return Realization(
+        chi_rad=chi_rad, pin_radial_um=u.pin_radial_um, pin_tangential_um=u.pin_tangential_um,
+        pin_radius_um=u.pin_radius_um, pin_clearance_um=u.pin_clearance_um, tooth_pitch_um=u.tooth_pitch_um,
+        runout_um=np.stack([u.runout_along_um, u.runout_across_um], axis=1),
+        eccentricity_error_um=u.eccentricity_error_um, equidistance_um=u.equidistance_um,
+        moving_distance_um=u.moving_distance_um,
+        centre_gear_eccentricity_um=u.centre_gear_eccentricity_um if kinematic else None,
+        planet_eccentricity_um=u.planet_eccentricity_um if kinematic else None,
+        disc_crank_hole_um=u.disc_crank_hole_um if kinematic else None,
+        carrier_crank_hole_um=u.carrier_crank_hole_um if kinematic else None, **rest)

@@ -24,7 +24,8 @@ from rvbacklash._numba import njit
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import CATALOG
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import mesh_table, pin_gaps, stage_play, stage_work
+from rvbacklash.models.contact import (crank_step_angle_rad, mesh_table, pin_gaps, recorded_stage, stage_play,
+                                      stage_work)
 from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, empty_units, realization_at,
                                            store_unit)
 from rvbacklash.problem import Problem
@@ -32,7 +33,6 @@ from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators, stream_states
 from rvbacklash.sampling.unit_draw import (ERROR_MODELS, N_STREAMS, FactorLaws, draw_scratch, draw_unit,
                                            factor_laws)
-from rvbacklash.units import ARCMIN_PER_RAD
 
 CRANK_STEPS = 256  # crank-angle steps per pin pitch
 # units per engine block (the engine's default is 65 536): ~40 ms of contact work per block (0.25 s
@@ -73,6 +73,15 @@ def saved_slice(saved: SavedUnits, start: int, stop: int) -> SavedUnits:
     return SavedUnits(UnitErrors(*(a[start:stop] for a in saved.errors)), *(a[start:stop] for a in saved[1:]))
 
 
+def recorded_units(saved: dict[int, SavedUnits], crank_angle_rad) -> list[tuple[Realization, float, float]]:
+    """The units of a run's SavedUnits (block -> its record), in run order: (errors at the crank angle
+    ``crank_angle_rad(step)`` of their step, linear stages [arcmin], cycloid stage as recorded)."""
+    return [(realization_at(rec.errors, s, crank_angle_rad(int(rec.crank_step[s])),
+                            crank_clearance_um=float(rec.crank_clearance_um[s])),
+             float(rec.linear_arcmin[s]), float(rec.cycloid_stage[s]))
+            for b in sorted(saved) for rec in (saved[b],) for s in range(rec.crank_step.size)]
+
+
 @njit(nogil=True, cache=True)
 def save_unit(saved, s, unit, drawn, stage):
     """Record unit s of a run's first units: its errors, its UnitDraw and its cycloid stage."""
@@ -97,14 +106,12 @@ def contact_block(streams, laws, stage, coef, out, saved):
     for s in range(out.shape[1]):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         play = stage_play(coef[drawn.crank_step], stage, unit, gaps, work)
-        lin = drawn.linear_arcmin
-        if math.isnan(play.play_ccw_rad):
+        lin, cycloid = drawn.linear_arcmin, recorded_stage(play)
+        if math.isnan(play.play_ccw_rad):  # preloaded: the stage adds no play
             out[0, s] = lin
             out[1, s] = np.nan
             out[2, s] = play.preload_um
-            cycloid = -play.preload_um
         else:
-            cycloid = (play.play_ccw_rad + play.play_cw_rad) * ARCMIN_PER_RAD
             out[0, s] = lin + cycloid
             out[1, s] = out[0, s]
             out[2, s] = np.nan
@@ -154,15 +161,12 @@ class ContactBlockSource:
         return out
 
     def crank_angle_rad(self, step: int) -> float:
-        return 2.0 * math.pi / self.geometry.zp * (step + 0.5) / self.coef.shape[0]
+        return crank_step_angle_rad(step, self.geometry.zp, self.coef.shape[0])
 
     def saved_units(self) -> list[tuple[Realization, float, float]]:
         """The recorded units, in run order: (errors, linear stages [arcmin], cycloid stage [arcmin]
         as the kernel found it, or -preload [um] when preloaded)."""
-        return [(realization_at(saved.errors, s, self.crank_angle_rad(int(saved.crank_step[s])),
-                                crank_clearance_um=float(saved.crank_clearance_um[s])),
-                 float(saved.linear_arcmin[s]), float(saved.cycloid_stage[s]))
-                for b in sorted(self.saved) for saved in (self.saved[b],) for s in range(saved.crank_step.size)]
+        return recorded_units(self.saved, self.crank_angle_rad)
 
 
 def contact_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
@@ -188,8 +192,7 @@ def crank_mesh_table(g: ContactGeometry) -> np.ndarray:
     chi_s = 2 pi / z_p (s + 1/2) / CRANK_STEPS: the same for every run of a geometry, so built once
     per process (~10 ms, as long as 2000 contact units take on two threads: an allocation's
     candidates share it). Shared between runs: the kernels only read it."""
-    chis = 2.0 * math.pi / g.zp * (np.arange(CRANK_STEPS) + 0.5) / CRANK_STEPS
-    return mesh_table(g, chis)
+    return mesh_table(g, np.array([crank_step_angle_rad(s, g.zp, CRANK_STEPS) for s in range(CRANK_STEPS)]))
 
 
 @dataclass(frozen=True, eq=False)

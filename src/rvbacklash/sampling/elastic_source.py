@@ -26,7 +26,7 @@ import numpy as np
 from rvbacklash._numba import njit
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
-from rvbacklash.models.contact import PinGaps, stage_play, stage_work
+from rvbacklash.models.contact import PinGaps, crank_step_angle_rad, recorded_stage, stage_play, stage_work
 from rvbacklash.models.elastic import ElasticModel, LoopDesign, elastic_model, evaluate_units, loop_design, pin_law_table
 from rvbacklash.models.unit_errors import empty_unit
 from rvbacklash.problem import Problem
@@ -91,11 +91,10 @@ def draw_units_kernel(streams, laws, stage, coef, batch, saved):
     scratch = draw_scratch(stage.zp, stage.zc)
     work = stage_work(stage.discs, stage.zp)
     steps = coef.shape[0]
-    sens_crank = laws.linear_sens_arcmin_per_um[laws.linear_sens_arcmin_per_um.size - 1]
+    sens_crank = laws.crank_clearance_sens_arcmin_per_um
     for s in range(batch.chi_rad.size):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
-        chi = 2.0 * math.pi / stage.zp * (drawn.crank_step + 0.5) / steps
-        batch.chi_rad[s] = chi
+        batch.chi_rad[s] = crank_step_angle_rad(drawn.crank_step, stage.zp, steps)
         batch.involute_backlash_rad[s] = max(drawn.linear_arcmin - sens_crank * drawn.crank_clearance_um,
                                              0.0) / ARCMIN_PER_RAD
         batch.crank_clearance_um[s] = drawn.crank_clearance_um
@@ -104,11 +103,9 @@ def draw_units_kernel(streams, laws, stage, coef, batch, saved):
         save = s < saved.crank_step.size
         play = stage_play(coef[drawn.crank_step], stage, unit, PinGaps(batch.gap_um[s], batch.lever_um_per_rad[s]),
                           work, save)
-        preloaded = math.isnan(play.play_ccw_rad)
-        batch.preload_um[s] = play.preload_um if preloaded else np.nan
+        batch.preload_um[s] = play.preload_um if math.isnan(play.play_ccw_rad) else np.nan
         if save:
-            save_unit(saved, s, unit, drawn,
-                      -play.preload_um if preloaded else (play.play_ccw_rad + play.play_cw_rad) * ARCMIN_PER_RAD)
+            save_unit(saved, s, unit, drawn, recorded_stage(play))
 
 
 CHUNK = 4096  # units drawn and evaluated at a time within a block (bounded memory)

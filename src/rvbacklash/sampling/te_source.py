@@ -33,7 +33,8 @@ from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, 
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
 from rvbacklash.sampling.chunked import draw_then_evaluate
-from rvbacklash.sampling.contact_source import (BLOCK_UNITS, ContactBlockSource, block_streams, contact_source,
+from rvbacklash.sampling.contact_source import (BLOCK_UNITS, ContactBlockSource, SavedUnits, block_streams,
+                                                contact_source, recorded_units, save_unit, saved_slice, saved_units,
                                                 units_to_save)
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators, stream_states
@@ -77,27 +78,20 @@ class KinematicLaws(NamedTuple):
 
 class TEBatch(NamedTuple):
     """m drawn units as the transmission-error evaluation takes them: their errors (a UnitErrors
-    batch), their involute and crank stages' lost motion [arcmin] and their crank bearings'
-    clearance [um] (a saved unit's)."""
+    batch) and their involute and crank stages' lost motion [arcmin]."""
 
     units: UnitErrors
     linear_arcmin: np.ndarray
-    crank_clearance_um: np.ndarray
-
-
-def first_units(batch: TEBatch, k: int) -> TEBatch:
-    """A copy of the first k units of a batch."""
-    return TEBatch(UnitErrors(*(a[:k].copy() for a in batch.units)), batch.linear_arcmin[:k].copy(),
-                   batch.crank_clearance_um[:k].copy())
 
 
 @njit(nogil=True, cache=True)
-def draw_chunk(streams, kin_streams, laws, kin_laws, batch):
+def draw_chunk(streams, kin_streams, laws, kin_laws, batch, saved):
     """The units of ``batch`` (TEBatch), one row each: the contact model's draws (unit_draw.draw_unit
     with FactorLaws ``laws``; crank angle ignored: every unit starts at the reference position)
     and the kinematic factors' (``kin_streams``: one xoshiro stream state each, KINEMATIC_FACTORS
     order; ``kin_laws``: KinematicLaws): the gears' eccentricities and the crank holes of the discs
-    and of the carrier."""
+    and of the carrier. The first units are recorded in ``saved`` (SavedUnits, as many as it holds;
+    their cycloid stage: ``evaluate_chunk``)."""
     units = batch.units
     zp, discs, zc = units.pin_radial_um.shape[1], units.tooth_pitch_um.shape[1], units.tooth_pitch_um.shape[2]
     planets = units.planet_eccentricity_um.shape[1]
@@ -109,7 +103,6 @@ def draw_chunk(streams, kin_streams, laws, kin_laws, batch):
     for s in range(batch.linear_arcmin.size):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         batch.linear_arcmin[s] = drawn.linear_arcmin
-        batch.crank_clearance_um[s] = drawn.crank_clearance_um
         for c in range(2):
             centre[c] = kin_laws.centre_gear_um * _normal(kin_streams, kin_laws.centre_gear_stream, False)
         for k in range(planets):
@@ -123,13 +116,16 @@ def draw_chunk(streams, kin_streams, laws, kin_laws, batch):
             for c in range(2):
                 hc[k, c] = kin_laws.carrier_hole_um * _normal(kin_streams, kin_laws.carrier_hole_stream, False)
         store_unit(units, s, unit)
+        if s < saved.crank_step.size:
+            save_unit(saved, s, unit, drawn, np.nan)
 
 
 @njit(nogil=True, cache=True)
-def evaluate_chunk(stage, kin, table, batch, ref_ccw, out):
+def evaluate_chunk(stage, kin, table, batch, ref_ccw, out, saved):
     """TE_OUTPUTS of the units of ``batch`` (TEBatch) into out (3, m): StageGeometry ``stage``, the
     design's Kinematics ``kin``, the PositionTable of the positions, the error-free unit's ccw flank
-    there (``ref_ccw``)."""
+    there (``ref_ccw``); the cycloid stage of the first units into ``saved`` (SavedUnits:
+    its rigid lost motion at the reference position [arcmin], 0 where preloaded)."""
     n = table.chi_rad.size
     scratch = curve_scratch(stage.zp, stage.zc, stage.discs, kin.planets)
     curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n))
@@ -143,7 +139,10 @@ def evaluate_chunk(stage, kin, table, batch, ref_ccw, out):
             lo = min(lo, v)
             hi = max(hi, v)
             lm_max = max(lm_max, ccw[k] - cw[k])
-        out[0, s] = lin[s] + (ccw[0] - cw[0]) * ARCMIN_PER_RAD
+        cycloid = (ccw[0] - cw[0]) * ARCMIN_PER_RAD
+        out[0, s] = lin[s] + cycloid
+        if s < saved.cycloid_stage.size:
+            saved.cycloid_stage[s] = cycloid
         out[1, s] = (hi - lo) * ARCSEC_PER_RAD
         out[2, s] = lin[s] + lm_max * ARCMIN_PER_RAD
 
@@ -160,16 +159,22 @@ class TransmissionBlockSource:
     outputs: tuple[Output, ...] = TE_OUTPUTS
     block_size: int = BLOCK_UNITS  # the contact model's blocks: the same units
     save_units: int = 0  # record the errors of the first units of the run (kinematic errors included)
-    saved: dict = field(default_factory=dict)  # block -> (its first units' TEBatch, their backlash [arcmin])
+    saved: dict = field(default_factory=dict)  # block -> its recorded SavedUnits (the first blocks)
 
-    def _draw(self, streams: np.ndarray, m: int) -> TEBatch:
+    def _draw(self, streams: np.ndarray, m: int, saved: SavedUnits | None = None) -> TEBatch:
         c, g = self.contact, self.contact.geometry
-        batch = TEBatch(empty_units(m, g.zp, g.zc, g.discs, self.kinematics.planets), np.empty(m), np.empty(m))
-        draw_chunk(streams[:N_STREAMS], streams[N_STREAMS:], c.laws, self.kin_laws, batch)
+        batch = TEBatch(empty_units(m, g.zp, g.zc, g.discs, self.kinematics.planets), np.empty(m))
+        draw_chunk(streams[:N_STREAMS], streams[N_STREAMS:], c.laws, self.kin_laws, batch,
+                   saved if saved is not None else self._no_saving)
         return batch
 
-    def _evaluate(self, batch: TEBatch, out: np.ndarray) -> None:
-        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.ref_ccw_rad, out)
+    def _evaluate(self, batch: TEBatch, out: np.ndarray, saved: SavedUnits | None = None) -> None:
+        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.ref_ccw_rad, out,
+                       saved if saved is not None else self._no_saving)
+
+    @property
+    def _no_saving(self) -> SavedUnits:
+        return saved_units(0, self.contact.geometry, self.kinematics.planets)
 
     def block(self, b: int, n: int) -> np.ndarray:
         """(3, n) outputs of block b (TE_OUTPUTS)."""
@@ -177,27 +182,23 @@ class TransmissionBlockSource:
         streams = te_streams(c.seed, b, c.stream)
         out = np.empty((len(self.outputs), n))
         keep = units_to_save(self.save_units, self.block_size, b, n)
+        saved = saved_units(keep, c.geometry, self.kinematics.planets)
 
-        def evaluate(start: int, batch: TEBatch) -> None:
-            self._evaluate(batch, out[:, start:start + batch.linear_arcmin.size])
-            if start == 0 and keep:  # the run's first units are in a block's first chunk (keep <= CHUNK)
-                self.saved[b] = (first_units(batch, keep), out[0, :keep].copy())
+        def part(start: int, m: int) -> SavedUnits | None:
+            return saved_slice(saved, start, start + m) if start < keep else None
 
-        draw_then_evaluate(n, CHUNK, EVAL_THREADS, lambda start, m: self._draw(streams, m), evaluate)
+        draw_then_evaluate(n, CHUNK, EVAL_THREADS, lambda start, m: self._draw(streams, m, part(start, m)),
+                           lambda start, batch: self._evaluate(batch, out[:, start:start + batch.linear_arcmin.size],
+                                                               part(start, batch.linear_arcmin.size)))
+        if keep:
+            self.saved[b] = saved
         return out
 
     def saved_units(self) -> list[tuple[Realization, float, float]]:
         """The recorded units, in run order, as the contact model records them: (errors with the
         kinematic ones, at the reference position (crank angle 0); linear stages [arcmin]; the
-        cycloid stage's lost motion at the reference position [arcmin], 0 when preloaded)."""
-        out = []
-        for b in sorted(self.saved):
-            batch, backlash = self.saved[b]
-            for s in range(batch.linear_arcmin.size):
-                lin = float(batch.linear_arcmin[s])
-                out.append((realization_at(batch.units, s, 0.0, crank_clearance_um=float(batch.crank_clearance_um[s])),
-                            lin, float(backlash[s]) - lin))
-        return out
+        cycloid stage's lost motion at the reference position [arcmin], 0 where preloaded)."""
+        return recorded_units(self.saved, lambda step: 0.0)
 
 
 def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
@@ -206,8 +207,6 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
 
     if method != "default":
         raise InputError("method", method, "allowed with the transmission-error model: default")
-    if save_units > CHUNK:
-        raise InputError("save_units", save_units, f"allowed with the transmission-error model: 0 to {CHUNK} units")
     c = contact_source(problem, "default", seed, stream)
     g = problem.cycloid
     n = POSITIONS_PER_PIN * g.zp

@@ -11,13 +11,14 @@
 The names the rest of the package uses are here.
 """
 
-from rvbacklash.models.elastic.chain import (BACKLASH, ELEMENTS, FALL, LOST_MOTION, N_ELEMENTS, N_FIGURES, RIGIDITY,
-                                             RISE, SHARES, Chain, ElasticModel, elastic_model, pin_law_table)
+from rvbacklash.models.elastic.chain import (BACKLASH, ELEMENT_LOST_MOTION, ELEMENTS, FALL, LOST_MOTION, N_ELEMENTS,
+                                             N_FIGURES, RIGIDITY, RISE, SHARES, Chain, ElasticModel, elastic_model,
+                                             pin_law_table)
 from rvbacklash.models.elastic.unit import (ElasticUnit, LoopDesign, PreparedUnit, evaluate_units, loop_design,
                                             nominal_realization, nominal_unit, other_stages_nominal,
                                             unit_from_realization, unit_hysteresis)
 
-__all__ = ["BACKLASH", "ELEMENTS", "FALL", "LOST_MOTION", "N_ELEMENTS", "N_FIGURES", "RIGIDITY", "RISE", "SHARES",
+__all__ = ["BACKLASH", "ELEMENT_LOST_MOTION", "ELEMENTS", "FALL", "LOST_MOTION", "N_ELEMENTS", "N_FIGURES", "RIGIDITY", "RISE", "SHARES",
            "Chain", "ElasticModel", "ElasticUnit", "LoopDesign", "PreparedUnit", "elastic_model", "evaluate_units",
            "loop_design", "nominal_realization", "nominal_unit", "other_stages_nominal", "pin_law_table",
            "unit_from_realization", "unit_hysteresis"]

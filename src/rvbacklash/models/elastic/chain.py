@@ -49,6 +49,7 @@ from rvbacklash.design.structure import StructureInputs
 from rvbacklash.errors import InputError
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models import compliance as cm
+from rvbacklash.models.contact import crank_step_angle_rad
 from rvbacklash.models.elastic.solver import (NEGATIVE, POSITIVE, ContactLaw, ContactSet, DiscTranslation, PinSet,
                                               SupportMemo, SupportSet, closure_order, new_state, set_bounds, solve_pins,
                                               solve_set, support_deflection_um)
@@ -58,11 +59,15 @@ from rvbacklash.units import ARCMIN_PER_RAD
 ELEMENTS = ("cycloid_pins", "crank_bearings", "involute_stage", "structure", "crankshafts", "support_bearings",
             "carrier", "main_bearings")
 N_ELEMENTS = len(ELEMENTS)
+# each element's place in a vector of the element angles (chain_angles), ELEMENTS order
+PINS, CRANK_BEARINGS, INVOLUTE, STRUCTURE, CRANKSHAFTS, SUPPORT_BEARINGS, CARRIER, MAIN_BEARINGS = range(N_ELEMENTS)
 # unit_hysteresis fills out[0:N_FIGURES]: lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin],
-# then the lost motion of each element [arcmin] (they sum to the lost motion), then each element's
-# angle over the rigidity interval [arcmin] (they sum to the interval's angle: the compliance shares)
+# then from ELEMENT_LOST_MOTION the lost motion of each element [arcmin] (they sum to the lost motion), then
+# from SHARES each element's angle over the rigidity interval [arcmin] (they sum to the interval's angle: the
+# compliance shares)
 LOST_MOTION, BACKLASH, RIGIDITY = 0, 1, 2
-SHARES = 3 + N_ELEMENTS
+ELEMENT_LOST_MOTION = 3
+SHARES = ELEMENT_LOST_MOTION + N_ELEMENTS
 N_FIGURES = 3 + 2 * N_ELEMENTS
 TRANSLATION_ROUNDS = 60  # solve_pins' rounds (x solve, Newton step on the translations) at most
 SUPPORT_MEMO = 24  # torques remembered by a support set (chain_angles' repeated calls)
@@ -246,22 +251,9 @@ def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
                                                        st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
         pillar = cm.pillar_deflection_um_per_n(st.pillar_length_mm, st.pillar_width_mm, st.pillar_depth_mm,
                                                st.carrier_youngs_modulus_gpa, st.carrier_poisson_ratio)
-        crank_torque_nm = (c.rated_torque_nm / (geo.ratio * geo.centre_gear_pitch_radius_mm * 1e-3 * s1.planets)
-                           * geo.planet_pitch_radius_mm * 1e-3)  # each crank's, between planet and eccentrics
-        pillar_shear_n = k * c.rated_torque_nm / (2.0 * st.carrier_pillars * st.pillar_radius_mm * 1e-3)
-        twisted = "crankshaft_torsion_diameter_mm" if st.crankshaft_torsion_diameter_mm else "crankshaft_diameter_mm"
-        for name, part, share, unit in (
-                ("crankshaft_diameter_mm", "crankshaft bends",
-                 bend * c.rated_torque_nm * c.bearing_force_n_per_nm * 1e-3 / st.crankshaft_support_span_mm,
-                 "of its span"),
-                ("pillar_width_mm", "carrier pillar bends", pillar * pillar_shear_n * 1e-3 / st.pillar_length_mm,
-                 "of its length"),
-                (twisted, "crankshaft twists", twist * crank_torque_nm, "rad")):
-            if not share <= SMALL_DEFLECTION:
-                raise InputError(f"structure.{name}", getattr(st, name),
-                                 f"allowed: a part stiff enough for beam and shaft formulas (small deflections: at "
-                                 f"the rated torque at most {SMALL_DEFLECTION:g} of its length or {SMALL_DEFLECTION:g} "
-                                 f"rad); this {part} {share:.3g} {unit} at {c.rated_torque_nm:g} N m")
+        check_small_deflections(st, c, cm.crank_torque_nm(c.rated_torque_nm, geo.planet_pitch_radius_mm,
+                                                          geo.centre_gear_pitch_radius_mm, geo.ratio, s1.planets),
+                                cm.pillar_shear_force_n(c.rated_torque_nm, k, st.carrier_pillars, st.pillar_radius_mm))
         changes.update(
             crank_compliance_rad_per_nm=(
                 cm.tangential_output_compliance_rad_per_nm(bend, k, nb_, a0)
@@ -283,6 +275,42 @@ def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
     if st.disc_translation == "full":
         changes.update(radial_stiffness_n_per_um=radial_stiffness_n_per_um(model, st))
     return replace(model, chain=c._replace(**changes), structure=st, derived=derived)
+
+
+def check_small_deflections(st: StructureInputs, c: Chain, crank_torque_nm: float, pillar_shear_n: float) -> None:
+    """Beam and shaft formulas are small-deflection theory: at the rated torque each crankshaft may
+    bend, and each carrier pillar bend, at most SMALL_DEFLECTION of its length, and a crankshaft twist
+    SMALL_DEFLECTION rad (rv80e: ~1e-4). A part beyond is refused, naming the section dimension that
+    sets its stiffness with the smallest value that would do (the rest as given)."""
+    offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
+    shaft, carrier = (st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio), \
+        (st.carrier_youngs_modulus_gpa, st.carrier_poisson_ratio)
+    twisted = "crankshaft_torsion_diameter_mm" if st.crankshaft_torsion_diameter_mm else "crankshaft_diameter_mm"
+    checks = (  # (field, what it does, its deflection as a function of the field's value, unit)
+        ("crankshaft_diameter_mm", "crankshaft bends", "of its span", lambda d: cm.crank_symmetric_deflection_um_per_n(
+            st.crankshaft_support_span_mm, offset, d, *shaft) * c.rated_torque_nm * c.bearing_force_n_per_nm * 1e-3
+            / st.crankshaft_support_span_mm),
+        ("pillar_width_mm", "carrier pillar bends", "of its length", lambda w: cm.pillar_deflection_um_per_n(
+            st.pillar_length_mm, w, st.pillar_depth_mm, *carrier) * pillar_shear_n * 1e-3 / st.pillar_length_mm),
+        (twisted, "crankshaft twists", "rad", lambda d: cm.shaft_torsion_compliance_rad_per_nm(
+            st.crankshaft_torsion_length_mm, d, *shaft) * crank_torque_nm))
+    modulus = {"pillar_width_mm": st.carrier_youngs_modulus_gpa}
+    modulus.update({n: st.shaft_youngs_modulus_gpa for n in ("crankshaft_diameter_mm", twisted)})
+    for name, part, unit, share in checks:
+        value = getattr(st, name)
+        if share(value) <= SMALL_DEFLECTION:
+            continue
+        lo, hi = value, value  # the smallest value that meets the limit: the deflection falls as the section grows
+        while share(hi) > SMALL_DEFLECTION and hi < 1e6 * value:
+            lo, hi = hi, 2.0 * hi
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if share(mid) > SMALL_DEFLECTION else (lo, mid)
+        raise InputError(f"structure.{name}", value,
+                         f"allowed: >= {hi:.4g} mm (the rest as given), a part stiff enough for beam and shaft "
+                         f"formulas: at the rated torque it may deflect at most {SMALL_DEFLECTION:g} of its length "
+                         f"or {SMALL_DEFLECTION:g} rad; this {part} {share(value):.3g} {unit} at "
+                         f"{c.rated_torque_nm:g} N m (E = {modulus[name]:g} GPa)")
 
 
 def radial_stiffness_n_per_um(model: ElasticModel, st: StructureInputs) -> float:
@@ -344,7 +372,7 @@ def pin_law_table(c, zp, discs, steps):
     same numbers as computed unit by unit, once per design."""
     out = np.empty((steps, discs * zp))
     for s in range(steps):
-        fill_pin_law(2.0 * math.pi / zp * (s + 0.5) / steps, c, out[s].reshape((discs, zp)))
+        fill_pin_law(crank_step_angle_rad(s, zp, steps), c, out[s].reshape((discs, zp)))
     return out
 
 
@@ -355,7 +383,7 @@ def unit_pin_laws(chi, c, zp, discs, table):
     if table is not None:
         steps = table.shape[0]
         s = int(math.floor(chi * zp * steps / (2.0 * math.pi)))
-        if 0 <= s < steps and 2.0 * math.pi / zp * (s + 0.5) / steps == chi:
+        if 0 <= s < steps and crank_step_angle_rad(s, zp, steps) == chi:
             return table[s]
     out = np.empty((discs, zp))
     fill_pin_law(chi, c, out)
@@ -495,11 +523,13 @@ class LoopUnit(NamedTuple):
 class LoopPoints(NamedTuple):
     """The points of the loop that ``loop_figures`` reads (``loop_points``), LOOP_POINTS each: the
     chain torque T_el [N m], the side at zero torque, the support bearings' deflection there [um],
-    the point's weight in its figure."""
+    the figure the point serves (BACKLASH_POINT, LOST_MOTION_POINT, SPAN_POINT) and its weight
+    there."""
 
     torque_nm: np.ndarray
     side: np.ndarray
     support_um: np.ndarray
+    figure: np.ndarray  # int64
     weight: np.ndarray
 
 
@@ -538,19 +568,19 @@ def _chain_angles(t_el, side, unit, support_um, c, state, out):
     if t_el != 0.0:
         st.pins_start[k] = x
         st.rollers_start[k] = dr
-    out[0] = x
+    out[PINS] = x
     if c.translation_factor != 1.0:  # the translation across the eccentric adds to the elastic part only
         edge = 0.0
         if rollers.bounds.lo <= rollers.bounds.hi:  # a clearance: the dead band's edge on this side
             edge = rollers.bounds.hi if s > 0.0 else rollers.bounds.lo
         dr = edge + (dr - edge) * c.translation_factor
-    out[1] = dr * c.bearing_angle_rad_per_um
-    out[2] = 0.5 * s * unit.involute_backlash_rad + t_el / c.involute_stiffness_nm_per_rad
-    out[3] = t_el / c.structure_stiffness_nm_per_rad
-    out[4] = t_el * c.crank_compliance_rad_per_nm
-    out[5] = support_um * c.bearing_angle_rad_per_um
-    out[6] = t_el * c.carrier_compliance_rad_per_nm
-    out[7] = t_el * c.main_bearing_compliance_rad_per_nm
+    out[CRANK_BEARINGS] = dr * c.bearing_angle_rad_per_um
+    out[INVOLUTE] = 0.5 * s * unit.involute_backlash_rad + t_el / c.involute_stiffness_nm_per_rad
+    out[STRUCTURE] = t_el / c.structure_stiffness_nm_per_rad
+    out[CRANKSHAFTS] = t_el * c.crank_compliance_rad_per_nm
+    out[SUPPORT_BEARINGS] = support_um * c.bearing_angle_rad_per_um
+    out[CARRIER] = t_el * c.carrier_compliance_rad_per_nm
+    out[MAIN_BEARINGS] = t_el * c.main_bearing_compliance_rad_per_nm
 
 
 @njit(nogil=True, cache=True)
@@ -581,6 +611,7 @@ def branch_angles(torque_nm, branch, unit, support, c, state, out):
 
 
 LOOP_POINTS = 10  # the loop's points that the figures read (loop_points)
+BACKLASH_POINT, LOST_MOTION_POINT, SPAN_POINT = range(3)  # the figure a loop point serves
 
 
 @njit(nogil=True, cache=True)
@@ -593,7 +624,8 @@ def loop_points(support, c):
     tr = c.rated_torque_nm
     xt = c.measuring_fraction * tr
     lo, hi = c.rigidity_low * tr, c.rigidity_high * tr
-    out = LoopPoints(np.empty(LOOP_POINTS), np.empty(LOOP_POINTS), np.empty(LOOP_POINTS), np.empty(LOOP_POINTS))
+    out = LoopPoints(np.empty(LOOP_POINTS), np.empty(LOOP_POINTS), np.empty(LOOP_POINTS),
+                     np.empty(LOOP_POINTS, dtype=np.int64), np.empty(LOOP_POINTS))
     state = new_state()
     for q, (torque, branch, weight) in enumerate(((0.0, FALL, 1.0), (0.0, RISE, -1.0), (xt, RISE, 0.5),
                                                   (-xt, FALL, -0.5), (xt, FALL, 0.5), (-xt, RISE, -0.5),
@@ -604,6 +636,7 @@ def loop_points(support, c):
         out.torque_nm[q] = t_el
         out.side[q] = side
         out.support_um[q] = support_deflection_um(t_el, s, support, c, state) if c.support_rollers > 0 else 0.0
+        out.figure[q] = BACKLASH_POINT if q < 2 else (LOST_MOTION_POINT if q < 6 else SPAN_POINT)
         out.weight[q] = weight
     return out
 
@@ -624,30 +657,30 @@ def loop_figures(unit, points, c, state, out, a):
     reference counts."""
     width = 0.0
     for e in range(N_ELEMENTS):
-        out[3 + e] = 0.0  # the elements' lost motion, then their span, accumulated in place [rad]
+        out[ELEMENT_LOST_MOTION + e] = 0.0  # the elements' lost motion, then their span, accumulated in place [rad]
         out[SHARES + e] = 0.0
-    for q in range(LOOP_POINTS):  # loop_points' rows: 2 for the backlash, 4 for the lost motion, 4 for the span
+    for q in range(LOOP_POINTS):
         _chain_angles(points.torque_nm[q], points.side[q], unit, points.support_um[q], c, state, a)
-        w = points.weight[q]
-        if q < 2:
+        w, figure = points.weight[q], points.figure[q]
+        if figure == BACKLASH_POINT:
             total = 0.0
             for e in range(N_ELEMENTS):
                 total += a[e]
             width += w * total
         for e in range(N_ELEMENTS):
-            if 2 <= q < 6:
-                out[3 + e] += w * a[e]
-            elif q >= 6:
+            if figure == LOST_MOTION_POINT:
+                out[ELEMENT_LOST_MOTION + e] += w * a[e]
+            elif figure == SPAN_POINT:
                 out[SHARES + e] += w * a[e]
     lm = 0.0
     total = 0.0
     for e in range(N_ELEMENTS):
-        lm += out[3 + e]
+        lm += out[ELEMENT_LOST_MOTION + e]
         total += out[SHARES + e]
     tr = c.rated_torque_nm
     out[LOST_MOTION] = lm * ARCMIN_PER_RAD
     out[BACKLASH] = width * ARCMIN_PER_RAD
     out[RIGIDITY] = 2.0 * (c.rigidity_high - c.rigidity_low) * tr / (total * ARCMIN_PER_RAD) if total > 0.0 else np.inf
     for e in range(N_ELEMENTS):
-        out[3 + e] *= ARCMIN_PER_RAD
+        out[ELEMENT_LOST_MOTION + e] *= ARCMIN_PER_RAD
         out[SHARES + e] *= ARCMIN_PER_RAD

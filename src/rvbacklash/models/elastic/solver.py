@@ -25,6 +25,7 @@ SETTLE = 1e-4  # set_load: a force is stepped again while its relative error bou
 #                 (steps s/F > ~0.07: below, the (s/F)^2 bound holds well within solve_set's factor-2
 #                 margin; 1e-3 let a bracket move wrongly)
 LN_FORCE_GUESS = 6.0  # ln(400 N): start of the inversion of Johnson's law (pin and roller loads 10 N - 10 kN)
+SOLVE_RTOL = 1e-11  # solve_set stops when the load's residual and its error bound are below this share of it
 TRANSLATION_STEP_UM = 1e-6  # solve_pins: a Newton step on the translations below this ends the rounds
 TINY_TORQUE = 1e-12  # of T_R: the torque at which a translating disc's dead-band edge is read
 POSITIVE, NEGATIVE = 0, 1  # a warm start's side: the last solve under a positive or a negative load
@@ -314,7 +315,7 @@ def set_bounds(gaps, levers, m):
 
 
 @njit(nogil=True, cache=True)
-def solve_set(cs, law, load, side, guess, tangent, rtol=1e-11):
+def solve_set(cs, law, load, side, guess, tangent):
     """The SetSolution of ContactSet ``cs`` (ContactLaw ``law``) carrying ``load`` (its sign: the
     direction): its coordinate x and its stiffness there. load = 0: the edge of the free band on
     ``side`` (+1: the positive edge), or the preloaded equilibrium. ``guess``: a start inside the
@@ -327,7 +328,7 @@ def solve_set(cs, law, load, side, guess, tangent, rtol=1e-11):
     contacts' forces are refined along (one ``law_step`` per evaluation); the bracket moves only
     where the load's error bound cannot flip the sign of the residual, else the forces settle in
     place. Stops when the residual and its error bound are below 1e-11 of the load (or of the
-    contacts' loads, at a preloaded equilibrium; ``rtol``).
+    contacts' loads, at a preloaded equilibrium: SOLVE_RTOL).
     ``tangent``: (load_0, K_0), the load at which ``guess`` was solved and the set's stiffness
     dload/dx there (K_0 NaN: unknown); the solve then starts from the tangent's prediction guess +
     (load - load_0) / K_0 when it lies in the bracket, or from the bracket's loaded end when the
@@ -394,7 +395,7 @@ def solve_set(cs, law, load, side, guess, tangent, rtol=1e-11):
     for _ in range(300):
         g, dg, err, gabs = set_load(x, cs, law)
         f = g - load
-        ftol = rtol * max(abs(load), gabs)
+        ftol = SOLVE_RTOL * max(abs(load), gabs)
         if err <= ftol and abs(f) <= ftol:
             return SetSolution(x, dg if load != 0.0 else np.nan)
         trusted = abs(f) > 2.0 * err  # the sign of f is right: the bracket may move
@@ -455,7 +456,7 @@ def solve_pins(pins, load, side, guess, c, tangent):
     law = ContactLaw(c.law_b, c.law_n, 1e-6)
     ky = c.radial_stiffness_n_per_um
     if not ky < np.inf:
-        return solve_set(cs, law, load, side, guess, tangent, 1e-11)
+        return solve_set(cs, law, load, side, guess, tangent)
     pg, pl, pa, pw = cs.gaps, cs.levers, cs.law_a, cs.forces
     pm = pg.size
     pr, pd, tr = pins.radial, pins.disc, pins.translation

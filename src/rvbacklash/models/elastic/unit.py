@@ -18,7 +18,7 @@ import numpy as np
 
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
-from rvbacklash.models.contact import PinGaps, mesh_table, stage_work, unit_gaps
+from rvbacklash.models.contact import mesh_table, pin_gaps, stage_work, unit_gaps
 from rvbacklash.models.elastic.chain import (BACKLASH, LOST_MOTION, N_ELEMENTS, N_FIGURES, RIGIDITY, Chain,
                                              ElasticModel, LoopPoints, LoopUnit, branch_angles, chain_angles,
                                              fill_pin_law, loop_figures, loop_points, pin_phase, prepare_pins,
@@ -99,7 +99,7 @@ def unit_from_realization(problem: Problem, r: Realization, involute_backlash_ra
     contact kernel (``models.contact.unit_gaps`` at the unit's exact crank angle), as the
     Monte-Carlo computes them, so that a saved unit re-run alone gives its own figures."""
     g = problem.cycloid
-    gaps = PinGaps(np.empty((g.discs, g.zp)), np.empty((g.discs, g.zp)))
+    gaps = pin_gaps(g.discs, g.zp)
     unit_gaps(mesh_table(g, np.array([r.chi_rad]))[0], g.stage_geometry, unit_errors(r), gaps,
               stage_work(g.discs, g.zp))
     return ElasticUnit(gaps.gap_um, gaps.lever_um_per_rad, float(r.chi_rad), float(involute_backlash_rad),
