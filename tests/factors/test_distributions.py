@@ -66,8 +66,8 @@ def test_a_law_without_a_compiled_branch_is_drawn_from_its_table():
     zero, w = np.zeros(1), WaveSigmas(0.0, 0.0, 0.0, 0.0)
     laws = FactorLaws(code=np.array([dist.KERNEL_TABLE]), loc=zero, scale=zero, lower=zero, upper=zero,
                       ppf_table=dist.ppf_table(z)[None, :], disc_wave=w, pin_hole_wave=w, cycloid=CYCLOID_FACTORS,
-                      involute_factors=np.zeros(0, dtype=np.int64), involute_sens_arcmin_per_um=np.zeros(0),
-                      crank_clearance=0, crank_clearance_sens_arcmin_per_um=0.0, long_wave=False, box_muller=False)
+                      linear_factors=np.zeros(0, dtype=np.int64), linear_sens_arcmin_per_um=np.zeros(0),
+                      long_wave=False, box_muller=False)
     streams = stream_states([np.random.SeedSequence(4)])
     x = np.array([draw(streams, laws, 0) for _ in range(40000)])
     assert stats.kstest(x, dist.marginal(z).cdf).pvalue > 0.01

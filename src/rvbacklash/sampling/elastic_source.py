@@ -36,7 +36,7 @@ from rvbacklash.sampling.contact_source import (BLOCK_UNITS, CRANK_STEPS, PRELOA
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.engine import Output
 from rvbacklash.sampling.fast_normals import states_from_generators
-from rvbacklash.sampling.unit_draw import draw_scratch, draw_unit
+from rvbacklash.sampling.unit_draw import CRANK_CLEARANCE, draw_scratch, draw_unit
 from rvbacklash.units import ARCMIN_PER_RAD
 
 
@@ -91,7 +91,10 @@ def draw_units_kernel(streams, laws, stage, coef, batch, saved):
     scratch = draw_scratch(stage.zp, stage.zc)
     work = stage_work(stage.discs, stage.zp)
     steps = coef.shape[0]
-    sens_crank = laws.crank_clearance_sens_arcmin_per_um
+    sens_crank = 0.0  # the crank bearings' clearance's share of the linear stages [arcmin/um]
+    for m in range(laws.linear_factors.size):
+        if laws.linear_factors[m] == CRANK_CLEARANCE:
+            sens_crank = laws.linear_sens_arcmin_per_um[m]
     for s in range(batch.chi_rad.size):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         batch.chi_rad[s] = crank_step_angle_rad(drawn.crank_step, stage.zp, steps)

@@ -50,9 +50,9 @@ from rvbacklash.errors import InputError
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.contact import crank_step_angle_rad
-from rvbacklash.models.elastic.solver import (NEGATIVE, POSITIVE, ContactLaw, ContactSet, DiscTranslation, PinSet,
-                                              SupportMemo, SupportSet, closure_order, new_state, set_bounds, solve_pins,
-                                              solve_set, support_deflection_um)
+from rvbacklash.models.elastic.solver import (N_TRANSLATION_ROWS, NEGATIVE, POSITIVE, ContactLaw, ContactSet,
+                                              DiscTranslation, PinSet, SupportMemo, SupportSet, closure_order,
+                                              new_state, set_bounds, solve_pins, solve_set, support_deflection_um)
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
@@ -473,9 +473,8 @@ def prepare_pins(unit, c, every, table):
     if not every:  # fixed gaps: in closure order (set_load stops each run at its first open contact)
         order, npos, nneg = closure_order(gk, lk, keep)
         gk, lk, ak, rk, dk = gk[order], lk[order], ak[order], rk[order], dk[order]
-    rows = np.zeros((7, discs))  # one allocation for the per-disc rows (a unit's evaluation allocates ~15 arrays)
-    translation = DiscTranslation(rows[0], rows[1], rows[2], rows[3], rows[4], rows[5], rows[6], np.empty(keep),
-                                  np.empty((discs, discs)), np.empty(discs))
+    translation = DiscTranslation(np.zeros((N_TRANSLATION_ROWS, discs)), np.empty(keep), np.empty((discs, discs)),
+                                  np.empty(discs))
     return PinSet(ContactSet(gk, lk, ak, set_bounds(gk, lk, keep), np.zeros(keep), npos, nneg), rk, dk, translation)
 
 

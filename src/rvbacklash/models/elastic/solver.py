@@ -75,22 +75,22 @@ class SetSolution(NamedTuple):
 
 
 class DiscTranslation(NamedTuple):
-    """The discs' translations along their eccentrics and solve_pins' work (docs/elastic.md), per
-    disc unless said: the translations y [um], the sums of a round (the pins' radial force [N],
-    dF/dy, dF/dx, the scale sum |F radial|), the last translations under a positive and a negative
-    load [um] (the next solve's start), the pins' gaps shifted by the translations (one per pin),
-    the translations' Newton system and step."""
+    """The discs' translations along their eccentrics and solve_pins' work (docs/elastic.md): the
+    per-disc rows (``per_disc`` (7, discs), rows by name: Y, the translations [um]; a round's sums
+    RADIAL_FORCE [N], STIFFNESS_YY (dF/dy), STIFFNESS_XY (dF/dx), FORCE_SCALE (sum |F radial|);
+    LAST_POSITIVE, LAST_NEGATIVE, the last translations under a positive and a negative load [um],
+    the next solve's start), the pins' gaps shifted by the translations (one per pin), the
+    translations' Newton system and step. One array for the rows: each array in a record costs
+    every call that passes it (separate rows made a unit's evaluation ~1 % slower)."""
 
-    y_um: np.ndarray
-    radial_force_n: np.ndarray
-    stiffness_yy: np.ndarray
-    stiffness_xy: np.ndarray
-    force_scale_n: np.ndarray
-    last_positive_um: np.ndarray
-    last_negative_um: np.ndarray
+    per_disc: np.ndarray
     shifted_gaps_um: np.ndarray
     jacobian: np.ndarray
     step_um: np.ndarray
+
+
+Y, RADIAL_FORCE, STIFFNESS_YY, STIFFNESS_XY, FORCE_SCALE, LAST_POSITIVE, LAST_NEGATIVE = range(7)  # DiscTranslation rows
+N_TRANSLATION_ROWS = 7
 
 
 class PinSet(NamedTuple):
@@ -460,10 +460,11 @@ def solve_pins(pins, load, side, guess, c, tangent):
     pg, pl, pa, pw = cs.gaps, cs.levers, cs.law_a, cs.forces
     pm = pg.size
     pr, pd, tr = pins.radial, pins.disc, pins.translation
-    y, ge, jac, res = tr.y_um, tr.shifted_gaps_um, tr.jacobian, tr.step_um
+    rows = tr.per_disc
+    y, ge, jac, res = rows[Y], tr.shifted_gaps_um, tr.jacobian, tr.step_um
     t = side * TINY_TORQUE * c.rated_torque_nm if load == 0.0 else load
     discs = y.size
-    last = tr.last_positive_um if t > 0.0 else tr.last_negative_um
+    last = rows[LAST_POSITIVE] if t > 0.0 else rows[LAST_NEGATIVE]
     for q in range(discs):  # start from the last solution under a load of the same sign (loops: no temporary)
         y[q] = last[q]
     x = guess
@@ -476,34 +477,34 @@ def solve_pins(pins, load, side, guess, c, tangent):
         for q in range(discs):  # this round's sums start from zero; so do both signs' last translations
             # (the one of this solve's sign is written back below: a solve starts from the last one's
             # translations only when that one had the same sign)
-            tr.radial_force_n[q] = 0.0
-            tr.stiffness_yy[q] = 0.0
-            tr.stiffness_xy[q] = 0.0
-            tr.force_scale_n[q] = 0.0
-            tr.last_positive_um[q] = 0.0
-            tr.last_negative_um[q] = 0.0
+            rows[RADIAL_FORCE, q] = 0.0
+            rows[STIFFNESS_YY, q] = 0.0
+            rows[STIFFNESS_XY, q] = 0.0
+            rows[FORCE_SCALE, q] = 0.0
+            rows[LAST_POSITIVE, q] = 0.0
+            rows[LAST_NEGATIVE, q] = 0.0
         kxx = 0.0
         for j in range(pm):
             if pw[j] > 0.0:
                 d = pl[j] * x - ge[j]
                 f, df, _e = law_step(d, pa[j], c.law_b, c.law_n, pw[j]) if d > 0.0 else (0.0, 0.0, 0.0)
                 q = pd[j]
-                tr.radial_force_n[q] += f * pr[j]
-                tr.stiffness_yy[q] += df * pr[j] * pr[j]
-                tr.stiffness_xy[q] += df * pr[j] * pl[j]
-                tr.force_scale_n[q] += f * abs(pr[j])
+                rows[RADIAL_FORCE, q] += f * pr[j]
+                rows[STIFFNESS_YY, q] += df * pr[j] * pr[j]
+                rows[STIFFNESS_XY, q] += df * pr[j] * pl[j]
+                rows[FORCE_SCALE, q] += f * abs(pr[j])
                 kxx += df * pl[j] * pl[j]
         done = True
         for q in range(discs):
-            res[q] = tr.radial_force_n[q] + ky * y[q]
-            if abs(res[q]) > 1e-9 * (tr.force_scale_n[q] + ky * abs(y[q])) + 1e-9:
+            res[q] = rows[RADIAL_FORCE, q] + ky * y[q]
+            if abs(res[q]) > 1e-9 * (rows[FORCE_SCALE, q] + ky * abs(y[q])) + 1e-9:
                 done = False
         if done:
             break
         for q in range(discs):
             for r in range(discs):
-                jac[q, r] = -tr.stiffness_xy[q] * tr.stiffness_xy[r] / kxx if kxx > 0.0 else 0.0
-            jac[q, q] += tr.stiffness_yy[q] + ky
+                jac[q, r] = -rows[STIFFNESS_XY, q] * rows[STIFFNESS_XY, r] / kxx if kxx > 0.0 else 0.0
+            jac[q, q] += rows[STIFFNESS_YY, q] + ky
         solve_in_place(jac, res)  # res <- the Newton step
         small = True
         for q in range(discs):

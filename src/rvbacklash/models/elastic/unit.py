@@ -23,7 +23,7 @@ from rvbacklash.models.elastic.chain import (BACKLASH, LOST_MOTION, N_ELEMENTS, 
                                              ElasticModel, LoopPoints, LoopUnit, branch_angles, chain_angles,
                                              fill_pin_law, loop_figures, loop_points, pin_phase, prepare_pins,
                                              prepare_rollers, prepare_support)
-from rvbacklash.models.elastic.solver import law_force, new_state
+from rvbacklash.models.elastic.solver import Y, law_force, new_state
 from rvbacklash.models.unit_errors import Realization, unit_errors
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -157,7 +157,7 @@ class PreparedUnit:
         """Each disc's translation along its eccentric [um] at the last evaluation (0: none)."""
         if not self.model.translating:
             return np.zeros(self.unit.gap_um.shape[0])
-        return self.loop.pins.translation.y_um.copy()
+        return self.loop.pins.translation.per_disc[Y].copy()
 
     def pin_closures_um(self, pins_angle_rad: float) -> np.ndarray:
         """Closure lever theta + radial y - gap of every pin of every disc [um] (> 0: in contact),
