@@ -195,12 +195,12 @@ def balance_residuals(pu: el.PreparedUnit, torque: float, branch: int) -> tuple[
     t_el = chain_torque(c, torque, branch)
     angles = pu.branch(torque, branch)
     if t_el != 0.0:
-        assert angles[2] - math.copysign(0.5 * pu.loop.involute_backlash_rad, t_el) == pytest.approx(
+        assert angles[ch.INVOLUTE] - math.copysign(0.5 * pu.loop.involute_backlash_rad, t_el) == pytest.approx(
             t_el / c.involute_stiffness_nm_per_rad, rel=1e-12)
     lev = (pu.unit.lever_um_per_rad / c.lever_factor).ravel()
-    f = pu.pin_forces_n(angles[0]).ravel()
+    f = pu.pin_forces_n(angles[ch.PINS] + angles[ch.PIN_SEATING]).ravel()
     pins = 1e-6 * float(f @ lev)
-    dr = angles[1] / c.bearing_angle_rad_per_um
+    dr = angles[ch.CRANK_BEARINGS] / c.bearing_angle_rad_per_um
     d = dr * pu.model.roller_cos - 0.5 * pu.unit.crank_clearance_um
     q = np.array([sv.law_force(x, c.roller_a, c.roller_b, c.law_n, 0.0)[0] if x > 0 else 0.0 for x in d])
     rollers = float(q @ pu.model.roller_cos)

@@ -34,6 +34,10 @@ from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
 BRANCHES = ("load+", "unload+", "load-", "unload-")
+# The rigidity's secants every hysteresis result reports (fractions of T_R, both loading branches): the
+# catalogue's "b/a" has no torque points in any text we could read (docs/elastic.md), and makers
+# quote stiffness in torque regions, so a comparison says which one it uses (issue 28)
+SECANT_INTERVALS = ((0.0, 1.0), (0.03, 1.0), (0.5, 1.0))
 DEFAULT_POINTS = 41  # grid nodes per branch (the definition torques are added)
 ASSUMPTIONS = (
     "input locked, housing fixed; the elastic chain in series: cycloid pins (Hertz line contacts, both discs on one "
@@ -62,6 +66,16 @@ class HysteresisBranch(Result):
 
 
 @dataclass(frozen=True, repr=False)
+class RigiditySecant(Result):
+    """The rigidity read as the secant of both loading branches over [from, to] of T_R (the
+    definition of ``torsional_rigidity_nm_per_arcmin`` with another interval)."""
+
+    from_fraction: float
+    to_fraction: float
+    rigidity_nm_per_arcmin: float
+
+
+@dataclass(frozen=True, repr=False)
 class HysteresisResult(Result):
     """The hysteresis loop of one unit and the test bench's figures read from it."""
 
@@ -73,6 +87,7 @@ class HysteresisResult(Result):
     lost_motion_arcmin: float
     backlash_arcmin: float
     torsional_rigidity_nm_per_arcmin: float
+    rigidity_secants: tuple[RigiditySecant, ...]  # SECANT_INTERVALS, read from the loop by the same definition
     lost_motion_share_arcmin: dict[str, float]  # of each element of the chain; they sum to the lost motion
     dead_band_arcmin: dict[str, float]  # free play of each element (the loop width with no load and no friction)
     pins_in_contact_at_rated: tuple[int, ...]  # per disc, at +T_R (load+)
@@ -107,6 +122,9 @@ class HysteresisResult(Result):
         return [f"{self.design_name} ({self.unit}): lost motion {self.lost_motion_arcmin:.4f} arcmin at "
                 f"±{self.measuring_torque_fraction * 100:g} % of {self.rated_torque_nm:g} N m, backlash "
                 f"{self.backlash_arcmin:.4f} arcmin, rigidity {self.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin",
+                "rigidity secants: " + ", ".join(f"{x.from_fraction * 100:g}-{x.to_fraction * 100:g} % T_R "
+                                                 f"{x.rigidity_nm_per_arcmin:.1f}" for x in self.rigidity_secants)
+                + " N m/arcmin",
                 f"pins in contact at rated torque: {', '.join(map(str, self.pins_in_contact_at_rated))} (per disc)"]
 
 
@@ -127,9 +145,10 @@ def build_loop(pu: PreparedUnit, points: int = DEFAULT_POINTS) -> tuple[tuple[Hy
     stick_p = cm.applied_torque_nm(cm.elastic_torque_nm(tr, True, tf, mu), False, tf, mu)
     offset = 0.5 * (pu.branch(0.0, FALL).sum() + pu.branch(0.0, RISE).sum())
     jump = {RISE: (tf, 1.0), FALL: (-tf, -1.0)}  # where the chain's torque passes 0, and the side it goes to
-    specs = (("load+", RISE, 0.0, tr, (xt, lt, ht, tf, stick_m)),
+    secant_ends = tuple(f * tr for interval in SECANT_INTERVALS for f in interval)
+    specs = (("load+", RISE, 0.0, tr, (xt, lt, ht, tf, stick_m, *secant_ends)),
              ("unload+", FALL, tr, 0.0, (xt, stick_p)),
-             ("load-", FALL, 0.0, -tr, (-xt, -lt, -ht, -tf, stick_p)),
+             ("load-", FALL, 0.0, -tr, (-xt, -lt, -ht, -tf, stick_p, *(-t for t in secant_ends))),
              ("unload-", RISE, -tr, 0.0, (-xt, stick_m)))
     branches = []
     for name, kind, start, end, extra in specs:
@@ -184,9 +203,13 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
     total = float(spans.sum())
     torque_span = 2.0 * (c.rigidity_high - c.rigidity_low) * c.rated_torque_nm
     loop, _ = build_loop(pu, int(points))
+    loop_rows = [{"branch": b.branch, "torque_nm": b.torque_nm, "angle_arcmin": b.angle_arcmin} for b in loop]
+    secants = tuple(RigiditySecant(lo, hi, loop_figures_from_branches(
+        loop_rows, c.rated_torque_nm, c.measuring_fraction, (lo, hi))["torsional_rigidity_nm_per_arcmin"])
+        for lo, hi in SECANT_INTERVALS)
     tr = c.rated_torque_nm
-    at_rated = pu.branch(tr, RISE)[0]
-    at_x = pu.branch(c.measuring_fraction * tr, RISE)[0]
+    at_rated = pu.pins_angle_rad(tr, RISE)
+    at_x = pu.pins_angle_rad(c.measuring_fraction * tr, RISE)
     forces = pu.pin_forces_n(at_rated)
     free = pu.chain(0.0, 1.0) - pu.chain(0.0, -1.0)
     e = model.inputs
@@ -194,7 +217,7 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         design_name=problem.name, unit=label, rated_torque_nm=tr, measuring_torque_fraction=c.measuring_fraction,
         rigidity_interval_fraction=(c.rigidity_low, c.rigidity_high), lost_motion_arcmin=float(fig[LOST_MOTION]),
         backlash_arcmin=float(fig[BACKLASH]), torsional_rigidity_nm_per_arcmin=float(fig[RIGIDITY]),
-        lost_motion_share_arcmin={k: float(v) for k, v in zip(ELEMENTS, fig[ELEMENT_LOST_MOTION:SHARES])},
+        rigidity_secants=secants, lost_motion_share_arcmin={k: float(v) for k, v in zip(ELEMENTS, fig[ELEMENT_LOST_MOTION:SHARES])},
         dead_band_arcmin={k: float(v * ARCMIN_PER_RAD) for k, v in zip(ELEMENTS, free)},
         compliance_share={k: float(v / total) if total > 0 else 0.0 for k, v in zip(ELEMENTS, spans)},
         element_stiffness_nm_per_arcmin={k: float(torque_span / v) if v > 0 else None for k, v in zip(ELEMENTS, spans)},

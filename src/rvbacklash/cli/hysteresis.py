@@ -30,6 +30,9 @@ def print_hysteresis(result, console) -> None:
     t.add_row(escape("backlash [arcmin]"), f"{r.backlash_arcmin:.4f}", "width of the loop at zero torque")
     t.add_row(escape("torsional rigidity [N m/arcmin]"), f"{r.torsional_rigidity_nm_per_arcmin:.1f}",
               escape(f"secant of the loading branches over {lo:g}-{hi:g} % T_R"))
+    for sec in r.rigidity_secants:
+        t.add_row(escape(f"  secant {sec.from_fraction * 100:g}-{sec.to_fraction * 100:g} % T_R [N m/arcmin]"),
+                  f"{sec.rigidity_nm_per_arcmin:.1f}", "the same definition over this interval (compare like with like)")
     t.add_row("pins in contact at +T_R", " + ".join(map(str, r.pins_in_contact_at_rated)),
               f"per disc; largest pin force {r.max_pin_force_at_rated_n:.0f} N")
     t.add_row(f"pins in contact at +{x:g} % T_R", " + ".join(map(str, r.pins_in_contact_at_measuring)), "per disc")

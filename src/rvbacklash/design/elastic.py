@@ -14,7 +14,10 @@ Defaults and their basis (every one can be overridden):
   hysteresis figure; we read it as the secant of the loading branches over the upper half of the
   rated torque, beyond the dead bands (the exact torque points of the catalogue figure are
   unverified, see docs/elastic.md).
-- Young's modulus 206 GPa and Poisson's ratio 0.3: handbook values for hardened steel.
+- Young's modulus 206 GPa and Poisson's ratio 0.3: handbook values for hardened steel (the housing
+  too: a design with a cast-iron housing states its modulus).
+- ``pin_seating`` "groove": every RV housing holds its pins in semicircular grooves; the seat is a
+  second line contact in series with the flank's (issue 28).
 - ``mesh_stiffness_n_per_mm_um`` 20: c_gamma of solid steel spur pairs (DIN 3990-1 / ISO 6336-1
   approximation, c' ~ 14 N/(mm um) times (0.75 eps_alpha + 0.25) for eps_alpha ~ 1.6).
 - structure stiffness: None = not stated: the crankshafts, support bearings and carrier are derived
@@ -63,6 +66,15 @@ class ElasticInputs(_Strict):
         "kinematic", description="how the disc and crank-bearing deflections refer to the output: kinematic "
                                  "(input locked: factor z_c / (z_p + z1/z2), docs/model.md) or eq1 (Eq. (1): a z_c, "
                                  "as the linear and contact models)")
+
+    pin_seating: Literal["groove", "none"] = Field(
+        "groove", description="the pins' seats in the housing: groove (each loaded pin presses into its semicircular "
+                              "groove, a conforming line contact in series with the pin-flank contact; docs/elastic.md) "
+                              "or none (the housing holds the pins rigidly)")
+    housing_youngs_modulus_gpa: float = Field(
+        206.0, gt=0, le=1000, description="Young's modulus of the housing's pin grooves [GPa] (steel: 206; ductile "
+                                          "iron: ~170)")
+    housing_poisson_ratio: float = Field(0.3, ge=0, lt=0.5, description="Poisson's ratio of the housing [-]")
 
     crank_bearing_rollers: int = Field(ge=3, le=200, description="needle rollers per crank (swivel-arm) bearing [-]")
     crank_bearing_roller_diameter_mm: float = Field(gt=0, le=100, description="needle roller diameter D_w [mm]")

@@ -145,6 +145,28 @@ def johnson_law_b_um_per_n(length_mm, e1_gpa, nu1, e2_gpa, nu2):
 
 
 @njit(cache=True)
+def pin_seat_law_a_um_per_n(length_mm, pin, housing):
+    """Coefficient a of the pin's seat in its housing groove, written as delta = F (a - b ln F) [um, N]
+    (b: ``johnson_law_b_um_per_n`` of the pin's and the housing's materials).
+
+    A pin pressed into the semicircular groove that holds it is a conforming line contact (a
+    cylinder in a cylindrical seat of nearly its own radius: Johnson, Contact Mechanics (1985),
+    ch. 4 and §5.3 on conforming contacts; Persson's pin-in-hole solution). Hertz's approach
+    (``johnson_law_a_um_per_n``) needs the contact small against the radii; in a seat of the pin's
+    own radius the relative radius R = r_pin r_seat / (r_seat - r_pin) is unbounded, so it is capped at
+    RELATIVE_RADIUS_CAP pin radii as for near-conformal flanks (for rv80e's 4 mm pins: R = 40 mm,
+    half-width 0.27 mm at 2 kN over 12 mm, a / r_pin = 0.07). A truly conforming seat spreads the
+    load wider than that, so this approach errs on the soft side (logarithmically). The bodies'
+    radii in the log: the pin's and the groove's (= the pin's).
+    Parameters: length_mm L [mm] (the seat behind one disc: the flank's contact length); pin, housing
+    (``Body``: radius [mm], E [GPa], nu). Returns a [um/N].
+    Validity: a << r_pin (holds to ~10 kN per 12 mm for 4 mm pins); a clearance in the groove wider
+    than the cap's conformity (c > 2 r_pin / (RELATIVE_RADIUS_CAP + 1)) is not modelled.
+    """
+    return johnson_law_a_um_per_n(length_mm, pin, housing, RELATIVE_RADIUS_CAP * pin.radius_mm)
+
+
+@njit(cache=True)
 def palmgren_line_approach_um(force_n, length_mm):
     """Palmgren's approach of a steel roller on a steel raceway: delta = 3.84e-5 Q^0.9 / L^0.8 [mm].
 
@@ -512,3 +534,27 @@ def pin_radial_closure(phi_rad, k1):
     Parameters: phi [rad], K1 [-]. Returns M [-] (> 0: a translation along the eccentric closes it)."""
     c = math.cos(phi_rad)
     return (c - k1) / math.sqrt(1.0 + k1 * k1 - 2.0 * k1 * c)
+
+
+def disc_body_output_compliance_rad_per_nm(disc_compliance_rad_per_nm: float, lever_factor: float,
+                                           discs: int) -> float:
+    """The discs' bodies referred to the output: C = k^2 C_disc / n_d [rad/(N m)].
+
+    Each of the n_d discs carries k T / n_d (virtual work: the pins' generalised force, docs/elastic.md
+    "Kinematics"), and its rotation beta reaches the output as k beta; C_disc is one disc's
+    body rotation per N m of its torque (mechanics.disc_body, FE). Parameters: C_disc [rad/(N m)],
+    k [-], n_d [-]."""
+    return lever_factor ** 2 * disc_compliance_rad_per_nm / discs
+
+
+def housing_ring_torsion_compliance_rad_per_nm(inner_radius_mm: float, outer_radius_mm: float,
+                                               thickness_mm: float, e_gpa: float, nu: float) -> float:
+    """Twist of a solid annulus r1..r2, thickness t, under a torque between its edges:
+    theta / T = (1/r1^2 - 1/r2^2) / (4 pi G t) [rad/(N m)]. Derivation (Lame's annulus in pure
+    shear; Timoshenko & Goodier, Theory of Elasticity, 3rd ed., the annulus under a torque): the
+    shear stress tau = T / (2 pi r^2 t), the twist d(theta)/dr = tau / (G r); integrated from r1 to r2.
+    The FE disc's oracle (tests/mechanics). Used to size the housing
+    ring between the pins' grooves and its flange (docs/elastic.md, "The pins' seating").
+    Parameters [mm, GPa, -]. Validity: plane stress, a full annulus (no bolt holes)."""
+    g = shear_modulus_gpa(e_gpa, nu) * 1e3  # N/mm^2
+    return (1.0 / inner_radius_mm ** 2 - 1.0 / outer_radius_mm ** 2) / (4.0 * math.pi * g * thickness_mm) * 1e3

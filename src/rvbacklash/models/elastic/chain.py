@@ -29,7 +29,7 @@ Friction: a Coulomb torque T_f = T_f0 + mu |T_el| at the output in parallel with
 branch (load- and unload+) then differ; at the turning points the output sticks until the
 torque has changed by twice the friction.
 
-This module holds the chain: the design's ``Chain`` record (``elastic_model``), each element's
+This module holds the chain: the design's ``Chain`` record (``closed_form_model``), each element's
 set of contacts (``prepare_pins``, ``prepare_rollers``, ``prepare_support``), the angle of each
 element at a torque (``chain_angles``) and the loop's figures (``loop_figures``). The solves are
 in ``solver``, the unit (from a realisation or a measured unit, its figures) in ``unit``.
@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -56,11 +56,12 @@ from rvbacklash.models.elastic.solver import (N_TRANSLATION_ROWS, NEGATIVE, POSI
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
-ELEMENTS = ("cycloid_pins", "crank_bearings", "involute_stage", "structure", "crankshafts", "support_bearings",
-            "carrier", "main_bearings")
+ELEMENTS = ("cycloid_pins", "pin_seating", "disc_bodies", "crank_bearings", "involute_stage", "structure",
+            "crankshafts", "support_bearings", "carrier", "main_bearings")
 N_ELEMENTS = len(ELEMENTS)
 # each element's place in a vector of the element angles (chain_angles), ELEMENTS order
-PINS, CRANK_BEARINGS, INVOLUTE, STRUCTURE, CRANKSHAFTS, SUPPORT_BEARINGS, CARRIER, MAIN_BEARINGS = range(N_ELEMENTS)
+(PINS, PIN_SEATING, DISC_BODIES, CRANK_BEARINGS, INVOLUTE, STRUCTURE, CRANKSHAFTS, SUPPORT_BEARINGS, CARRIER,
+ MAIN_BEARINGS) = range(N_ELEMENTS)
 # unit_hysteresis fills out[0:N_FIGURES]: lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin],
 # then from ELEMENT_LOST_MOTION the lost motion of each element [arcmin] (they sum to the lost motion), then
 # from SHARES each element's angle over the rigidity interval [arcmin] (they sum to the interval's angle: the
@@ -81,7 +82,7 @@ SMALL_DEFLECTION = 0.01
 class Chain(NamedTuple):
     """Everything the kernels need of a design besides the unit's own arrays."""
 
-    law_b: float  # contact law delta = F^n (a - b ln F) [um, N]: b and n, shared by every pin
+    law_b: float  # contact law delta = F^n (a - b ln F) [um, N]: b and n, shared by every pin (flank + seat)
     law_n: float
     johnson: bool  # per-pin a from the flank curvature (Johnson); else a = palmgren_a for every pin
     palmgren_a: float
@@ -123,6 +124,10 @@ class Chain(NamedTuple):
     support_symmetric: bool
     support_force_n_per_nm: float  # radial load of one support bearing per N m of T_el
     translation_rounds: int  # solve_pins: at most this many x solves per torque with the discs translating
+    # issue 28: the pins' seats in the housing grooves (in every pin's law) and the discs' bodies. Off: 0.
+    seat_a: float  # a of the seat's law, included in every pin's a (pin_law_a) [um/N^n]
+    seat_b_fraction: float  # b_seat / law_b (Johnson: the seat's part of the shared b; Palmgren: 0)
+    disc_body_compliance_rad_per_nm: float  # the discs' bodies (FE, mechanics.disc_body) at the output
 
 
 @dataclass(frozen=True)
@@ -139,6 +144,8 @@ class ElasticModel:
     raceway_diameter_mm: float
     structure: StructureInputs | None = None  # the whole torque path's dimensions (None: rigid)
     derived: bool = False  # the crankshafts, support bearings and carrier derived from ``structure``
+    disc_body: Any = None  # mechanics.disc_body.DiscBodyResult: the discs' bodies by FE (None: rigid)
+    carrier_body: Any = None  # mechanics.carrier_body.CarrierBodyResult: the carrier by FE (None: pillars)
 
     @property
     def lever_factor(self) -> float:
@@ -158,8 +165,9 @@ class ElasticModel:
         return math.isfinite(self.chain.radial_stiffness_n_per_um)
 
 
-def elastic_model(problem: Problem) -> ElasticModel:
-    """Resolve the design's [elastic] table into the kernels' parameters (docs/elastic.md)."""
+def closed_form_model(problem: Problem) -> ElasticModel:
+    """Resolve the design's [elastic] table into the kernels' parameters (docs/elastic.md): every
+    element from its closed form (``bodies.elastic_model`` adds the finite-element bodies)."""
     design = problem.design
     e = design.elastic
     if e is None:
@@ -204,9 +212,21 @@ def elastic_model(problem: Problem) -> ElasticModel:
     else:
         roller_a, roller_b = 2.0 * cm.palmgren_law_a(lw), 0.0
         law_b, law_n = 0.0, cm.PALMGREN_EXPONENT
+    seat_a, seat_b_fraction = 0.0, 0.0
+    if e.pin_seating == "groove":
+        pin, housing = (cm.Body(g.rrp_mm, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio),
+                        cm.Body(g.rrp_mm, e.housing_youngs_modulus_gpa, e.housing_poisson_ratio))
+        if johnson:
+            seat_a = cm.pin_seat_law_a_um_per_n(length, pin, housing)
+            seat_b = cm.johnson_law_b_um_per_n(length, e.pin_youngs_modulus_gpa, e.pin_poisson_ratio,
+                                               e.housing_youngs_modulus_gpa, e.housing_poisson_ratio)
+            seat_b_fraction = seat_b / (law_b + seat_b)
+            law_b += seat_b
+        else:  # Palmgren's law for a second line contact of the same length (steel on steel)
+            seat_a = cm.palmgren_law_a(length)
     low, high = e.rigidity_interval_fraction
     chain = Chain(
-        law_b=law_b, law_n=law_n, johnson=johnson, palmgren_a=cm.palmgren_law_a(length),
+        law_b=law_b, law_n=law_n, johnson=johnson, palmgren_a=cm.palmgren_law_a(length) + seat_a,
         contact_length_mm=length, pin_radius_mm=g.rrp_mm,
         generating_radius_mm=g.rrp_mm + s2.equidistance_modification_um * 1e-3, pin_circle_radius_mm=g.rp_mm,
         k1=g.K1, pins=float(g.zp), discs=float(g.discs), pin_e_gpa=e.pin_youngs_modulus_gpa, pin_nu=e.pin_poisson_ratio,
@@ -220,7 +240,8 @@ def elastic_model(problem: Problem) -> ElasticModel:
         translation_factor=1.0, radial_stiffness_n_per_um=math.inf, crank_compliance_rad_per_nm=0.0,
         carrier_compliance_rad_per_nm=0.0, main_bearing_compliance_rad_per_nm=c_main, support_rollers=0,
         support_cos_alpha=1.0, support_clearance_um=0.0, support_a=1.0, support_symmetric=False,
-        support_force_n_per_nm=0.0, translation_rounds=TRANSLATION_ROUNDS)
+        support_force_n_per_nm=0.0, translation_rounds=TRANSLATION_ROUNDS, seat_a=seat_a,
+        seat_b_fraction=seat_b_fraction, disc_body_compliance_rad_per_nm=0.0)
     psi = 2 * math.pi * np.arange(e.crank_bearing_rollers) / e.crank_bearing_rollers
     model = ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
     return with_structure(problem, model) if design.structure is not None else model
@@ -319,15 +340,21 @@ def radial_stiffness_n_per_um(model: ElasticModel, st: StructureInputs) -> float
     (``crank_antisymmetric_deflection_um_per_n``). A bearing's stiffness is its secant at the
     rated torque's tangential load with zero clearance (a linear spring: the clearance stays a dead
     band of the tangential direction only; docs/elastic.md). [N/um]"""
-    c = model.chain
-    load = c.rated_torque_nm * c.bearing_force_n_per_nm
-    deflection = solve_set(prepare_rollers(0.0, model.roller_cos, c), ContactLaw(c.roller_b, c.law_n, 1.0), load, 1.0,
-                           np.nan, (np.nan, np.nan)).x
+    load = model.chain.rated_torque_nm * model.chain.bearing_force_n_per_nm
     offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
     crank = cm.crank_antisymmetric_deflection_um_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
                                                        st.shaft_youngs_modulus_gpa, st.shaft_poisson_ratio)
     cranks = model.bearings // model.geometry.discs
-    return cranks / (deflection / load + crank)
+    return cranks / (1.0 / needle_secant_stiffness_n_per_um(model, load) + crank)
+
+
+def needle_secant_stiffness_n_per_um(model: ElasticModel, load_n: float) -> float:
+    """One crank needle bearing's secant stiffness [N/um] at the radial load ``load_n`` [N], zero
+    clearance (its rollers solved with the chain's law: ``prepare_rollers``, ``solve_set``)."""
+    c = model.chain
+    deflection = solve_set(prepare_rollers(0.0, model.roller_cos, c), ContactLaw(c.roller_b, c.law_n, 1.0), load_n,
+                           1.0, np.nan, (np.nan, np.nan)).x
+    return load_n / deflection
 
 
 # --- each element's set of contacts ------------------------------------------------------------
@@ -337,7 +364,8 @@ def pin_law_a(phi, c):
     """Coefficient a of pin j's contact law [um/N^n] at phase phi = psi_j - chi_d: Johnson's
     approach with the relative radius of the pin and the flank (``flank_radius_mm`` of
     ``pin_centre_curve_radius_mm``); the flank's body radius is its radius of curvature, at most
-    r_p where the flank is nearly straight. Palmgren: the same for every pin."""
+    r_p where the flank is nearly straight; plus the pin's seat in its housing groove (``seat_a``,
+    in series: the a's add). Palmgren: the same for every pin."""
     if not c.johnson:
         return c.palmgren_a
     rho = cm.flank_radius_mm(cm.pin_centre_curve_radius_mm(phi, c.pin_circle_radius_mm, c.k1, c.pins),
@@ -345,7 +373,42 @@ def pin_law_a(phi, c):
     r_rel = cm.capped_relative_radius_mm(c.pin_radius_mm, rho, cm.RELATIVE_RADIUS_CAP * c.pin_radius_mm)
     body = min(abs(rho), c.pin_circle_radius_mm)
     return cm.johnson_law_a_um_per_n(c.contact_length_mm, cm.Body(c.pin_radius_mm, c.pin_e_gpa, c.pin_nu),
-                                     cm.Body(body, c.disc_e_gpa, c.disc_nu), r_rel)
+                                     cm.Body(body, c.disc_e_gpa, c.disc_nu), r_rel) + c.seat_a
+
+
+@njit(nogil=True, cache=True, inline="always")
+def seat_angle_rad(pins, x, t_el, c):
+    """The seats' part of the pins' output angle x [rad] at chain torque t_el (the pins' solve just
+    done: its forces are the closed contacts' at x). Every closed pin j closes by
+    delta_j = L_j x - g_j = delta_flank + delta_seat and 1e-6 sum F_j L_j = t_el, so
+    x = 1e-6 [sum F_j g_j + sum F_j delta_flank + sum F_j delta_seat] / t_el: the seats' part is
+    1e-6 sum F_j delta_seat,j / t_el. With one law form, delta_seat = F^n (a_s - b_s ln F), and
+    b_s = sigma b: delta_seat = F a_s + sigma (delta_j - F a_j) (Johnson, n = 1: no logarithm);
+    Palmgren (b = 0): delta_seat = (a_s / a_j) delta_j. 0 at zero torque and without seats."""
+    if c.seat_a == 0.0 or t_el == 0.0:
+        return 0.0
+    cs = pins.contacts
+    translating = c.radial_stiffness_n_per_um < np.inf
+    gaps = pins.translation.shifted_gaps_um if translating else cs.gaps
+    pos_end = max(cs.npos, 0)
+    sorted_end = pos_end + cs.nneg if cs.npos >= 0 else 0
+    m = gaps.size
+    total = 0.0
+    for run in range(3):  # set_load's runs: the closed contacts of a sorted run are its prefix
+        lo_j = 0 if run == 0 else (pos_end if run == 1 else sorted_end)
+        hi_j = pos_end if run == 0 else (sorted_end if run == 1 else m)
+        for j in range(lo_j, hi_j):
+            d = cs.levers[j] * x - gaps[j]
+            if d <= 0.0:
+                if run < 2:
+                    break
+                continue
+            f = cs.forces[j]
+            if c.johnson:
+                total += f * (f * c.seat_a + c.seat_b_fraction * (d - f * cs.law_a[j]))
+            else:
+                total += f * d * c.seat_a / cs.law_a[j]
+    return 1e-6 * total / t_el
 
 
 @njit(nogil=True, cache=True)
@@ -567,7 +630,10 @@ def _chain_angles(t_el, side, unit, support_um, c, state, out):
     if t_el != 0.0:
         st.pins_start[k] = x
         st.rollers_start[k] = dr
-    out[PINS] = x
+    seat = seat_angle_rad(unit.pins, x, t_el, c)
+    out[PINS] = x - seat
+    out[PIN_SEATING] = seat
+    out[DISC_BODIES] = t_el * c.disc_body_compliance_rad_per_nm
     if c.translation_factor != 1.0:  # the translation across the eccentric adds to the elastic part only
         edge = 0.0
         if rollers.bounds.lo <= rollers.bounds.hi:  # a clearance: the dead band's edge on this side

@@ -19,7 +19,8 @@ import numpy as np
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS, Stage
 from rvbacklash.models.contact import mesh_table, pin_gaps, stage_work, unit_gaps
-from rvbacklash.models.elastic.chain import (BACKLASH, LOST_MOTION, N_ELEMENTS, N_FIGURES, RIGIDITY, Chain,
+from rvbacklash.models.elastic.chain import (BACKLASH, LOST_MOTION, N_ELEMENTS, N_FIGURES, PIN_SEATING, PINS, RIGIDITY,
+                                             Chain,
                                              ElasticModel, LoopPoints, LoopUnit, branch_angles, chain_angles,
                                              fill_pin_law, loop_figures, loop_points, pin_phase, prepare_pins,
                                              prepare_rollers, prepare_support)
@@ -153,6 +154,12 @@ class PreparedUnit:
         chain_angles(float(elastic_torque_nm), float(side), self.loop, self.support, self.model.chain, new_state(),
                      out)
         return out
+
+    def pins_angle_rad(self, torque_nm: float, branch: int) -> float:
+        """The pins' output angle x [rad] on a branch: the flanks' and the seats' parts (their
+        closures and forces read it)."""
+        a = self.branch(torque_nm, branch)
+        return float(a[PINS] + a[PIN_SEATING])
 
     def translation_um(self) -> np.ndarray:
         """Each disc's translation along its eccentric [um] at the last evaluation (0: none)."""
