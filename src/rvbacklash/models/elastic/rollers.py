@@ -20,12 +20,13 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import least_squares, minimize
 
+from rvbacklash.mechanics.fe_cache import cached
 from rvbacklash.models import compliance as cm
 
 ROLLER_SLICES = 30  # slices per roller: ISO/TS 16281's worked examples; rv80e's laws change < 0.1 % at 60 (tests)
 FIT_POINTS = 80  # loads (0, Q_max] at which the needle law's fit is made and its error read
+FIT_VERSION = 1  # of fit_roller_law's method: its cached results (mechanics.fe_cache) are keyed by it
 PROFILES = ("straight", "crowned", "logarithmic")
 
 
@@ -88,7 +89,20 @@ def fit_roller_law(roller: SlicedRoller, a: float, b: float, n: float, load_min_
     missed the bearing's deflection at 3 % of the rated torque by 30 %, its F_lim fell inside the
     range), the power law fits within 3 % (tests). Relative errors because both ends matter: the
     lost motion reads the bearing at +-3 % of the rated torque, the rigidity at 50-100 %.
-    Once per design."""
+    Once per design: kept in process and on disk (``mechanics.fe_cache.cached``, keyed by the
+    profile, the law and the range), so that a sweep or the next command does not fit again."""
+    inputs = {"x_mm": roller.x_mm.tolist(), "drop_um": roller.drop_um.tolist(), "law": [a, b, n],
+              "loads_n": [load_min_n, load_max_n], "points": points}
+    result = cached("roller_law_fit", FIT_VERSION, inputs,
+                    lambda: _fit_roller_law(roller, a, b, n, load_min_n, load_max_n, points)._asdict())
+    return RollerLawFit(**result)
+
+
+def _fit_roller_law(roller: SlicedRoller, a: float, b: float, n: float, load_min_n: float, load_max_n: float,
+                    points: int) -> RollerLawFit:
+    """``fit_roller_law`` computed."""
+    from scipy.optimize import least_squares, minimize  # here: a design with straight needles never imports it
+
     loads = np.geomspace(load_min_n, load_max_n, points)
     target = np.array([cm.sliced_roller_approach_um(q, 0.0, roller.x_mm, roller.drop_um, a, b, n) for q in loads])
 
