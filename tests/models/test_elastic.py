@@ -202,7 +202,7 @@ def balance_residuals(pu: el.PreparedUnit, torque: float, branch: int) -> tuple[
     pins = 1e-6 * float(f @ lev)
     dr = angles[ch.CRANK_BEARINGS] / c.bearing_angle_rad_per_um
     d = dr * pu.model.roller_cos - 0.5 * pu.unit.crank_clearance_um
-    q = np.array([sv.law_force(x, c.roller_a, c.roller_b, c.law_n, 0.0)[0] if x > 0 else 0.0 for x in d])
+    q = np.array([sv.law_force(x, c.roller_a, c.roller_b, c.roller_n, 0.0)[0] if x > 0 else 0.0 for x in d])
     rollers = float(q @ pu.model.roller_cos)
     load = t_el * c.bearing_force_n_per_nm
     return abs(pins - t_el) / max(abs(t_el), 1.0), abs(rollers - load) / max(abs(load), 1.0)

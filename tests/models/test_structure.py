@@ -183,10 +183,10 @@ def test_rigid_limit_reproduces_the_chain_without_structure(problem, model, rv80
     for u in (el.nominal_unit(problem), el.nominal_unit(problem, 0.4)):
         a, b = el.PreparedUnit(stiff, u).figures(), el.PreparedUnit(m0, u).figures()
         np.testing.assert_allclose(a[:el.SHARES], b[:el.SHARES], rtol=1e-9, atol=1e-12)
-    # and without the structure's rows and the pins' seats, rv80e's figures are those before issue 28 (which
-    # tests/models/test_elastic.py pins)
+    # and without the structure's rows, the pins' seats and the needles' profile (the model before issue 28),
+    # rv80e's figures are those tests/models/test_elastic.py pins
     bare = prepare(rv80e.model_copy(update={"structure": None, "elastic": rv80e.elastic.model_copy(
-        update={"pin_seating": "none"})}))
+        update={"pin_seating": "none", "crank_bearing_roller_profile": "straight"})}))
     assert el.PreparedUnit(el.elastic_model(bare), el.nominal_unit(bare)).figures()[el.RIGIDITY] == pytest.approx(
         1723.64, rel=1e-5)
 

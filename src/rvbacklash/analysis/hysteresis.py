@@ -52,6 +52,20 @@ ASSUMPTIONS_STRUCTURE = (
     "bearings unloaded by a pure torque; disc bodies, housing, plates and joints rigid")
 
 
+def profile_assumptions(model: ElasticModel) -> str:
+    """What the assumptions add for profiled rollers (docs/rollers-notes.md); nothing for straight ones."""
+    out = ""
+    fit = model.needle_fit
+    if fit is not None:
+        out += (f"; needle rollers {model.inputs.crank_bearing_roller_profile} (by slices, ISO/TS 16281), their law "
+                f"fitted as delta = {fit.a:.4g} Q^{fit.n:.4g} over {fit.load_min_n:.3g}-{fit.load_max_n:.4g} N (largest "
+                f"error {fit.max_relative_error:.1%})")
+    if model.support_roller.x_mm.size:
+        out += (f"; support rollers {model.structure.support_bearing_roller_profile} by slices (ISO/TS 16281), tilted "
+                f"by the crankshaft's slope at the bearing")
+    return out
+
+
 @dataclass(frozen=True, repr=False)
 class HysteresisBranch(Result):
     """One branch of the loop: torque [N m] and output angle [arcmin] at its nodes, in the order run."""
@@ -236,7 +250,7 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         involute_backlash_arcmin=float(max(unit.involute_backlash_rad, 0.0) * ARCMIN_PER_RAD),
         crank_angle_deg=float(math.degrees(unit.chi_rad)),
         assumptions=ASSUMPTIONS + (ASSUMPTIONS_STRUCTURE.format(translation=model.structure.disc_translation)
-                                   if model.structure is not None else ""), loop=loop,
+                                   if model.structure is not None else "") + profile_assumptions(model), loop=loop,
         pin_forces_at_rated_n=forces)
 
 

@@ -26,6 +26,12 @@ Defaults and their basis (every one can be overridden):
 - main-bearing stiffness: None = no element: a pure-torque test does not load the main bearings
   (docs/elastic.md, "The whole torque path"); a stated value adds one.
 - friction: 0 (the loading and unloading branches coincide); an assumption, not a measurement.
+- ``crank_bearing_roller_profile`` "logarithmic": precision needle rollers are profiled, not
+  straight (needle roller and cage assemblies of the major makers have profiled rollers, a
+  logarithmic or crowned generatrix [makers' catalogues, from memory]); with the actual profile
+  unknown, ISO/TS 16281:2008 prescribes its logarithmic profile, K = 0.35 D_we um per mm of roller
+  diameter for L <= 2.5 D_we (models/compliance.py, ``iso_logarithmic_profile``). "straight" is the
+  model before profiles (Johnson's or Palmgren's law per roller, unchanged to the bit).
 """
 
 from __future__ import annotations
@@ -33,6 +39,8 @@ from __future__ import annotations
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from rvbacklash.errors import InputError
 
 
 class _Strict(BaseModel):
@@ -83,6 +91,19 @@ class ElasticInputs(_Strict):
     crank_bearing_raceway_diameter_mm: float | None = Field(
         None, gt=0, le=1000, description="inner raceway (eccentric) diameter [mm]; default crank_stage.bearing_bore_mm")
 
+    crank_bearing_roller_profile: Literal["logarithmic", "crowned", "straight"] = Field(
+        "logarithmic", description="generatrix of the needle rollers (docs/rollers-notes.md): logarithmic (ISO/TS "
+                                   "16281's profile for an unknown one; scale crank_bearing_roller_log_scale_um), "
+                                   "crowned (a circular crown, crank_bearing_roller_crown_drop_um at the ends), "
+                                   "straight (no profile: the law per roller as before)")
+    crank_bearing_roller_crown_drop_um: float | None = Field(
+        None, gt=0, le=100, description="crowned needle rollers: drop of the circular crown at the ends of the "
+                                        "effective length (radius) [um]; required with roller_profile = crowned")
+    crank_bearing_roller_log_scale_um: float | None = Field(
+        None, gt=0, le=100, description="logarithmic needle rollers: K in P(x) = K ln(1 / (1 - (2x/L)^2)) [um]; "
+                                        "default ISO/TS 16281: 0.35 D_we (D_we in mm; 0.5 D_we over the ends when "
+                                        "L > 2.5 D_we)")
+
     mesh_stiffness_n_per_mm_um: float = Field(
         20.0, gt=0, le=1000, description="involute mesh stiffness c_gamma per face width [N/(mm um)] "
                                          "(ISO 6336-1 / DIN 3990: about 20 for solid steel spur gears)")
@@ -102,6 +123,8 @@ class ElasticInputs(_Strict):
 
     @model_validator(mode="after")
     def _consistent(self) -> "ElasticInputs":
+        check_profile("crank_bearing_roller", self.crank_bearing_roller_profile,
+                      self.crank_bearing_roller_crown_drop_um, self.crank_bearing_roller_log_scale_um)
         low, high = self.rigidity_interval_fraction
         if not 0.0 <= low < high <= 1.0:
             raise ValueError(f"rigidity_interval_fraction = [{low}, {high}]: allowed 0 <= low < high <= 1 "
@@ -112,3 +135,18 @@ class ElasticInputs(_Strict):
                              f"output move; allowed friction_torque_nm < rated_torque_nm (1 - friction_load_fraction)"
                              f" = {limit:g}")
         return self
+
+
+def check_profile(prefix: str, profile: str, crown_drop_um: float | None, log_scale_um: float | None) -> None:
+    """A roller profile's parameter belongs to its profile: ``{prefix}_crown_drop_um`` is required by
+    and only read with "crowned", ``{prefix}_log_scale_um`` only read with "logarithmic" (a value
+    given for another profile would be silently ignored: refused, naming the field)."""
+    if profile == "crowned" and crown_drop_um is None:
+        raise InputError(f"{prefix}_crown_drop_um", None,
+                         "required with roller_profile = \"crowned\": the crown's drop at the roller's ends [um], > 0")
+    if profile != "crowned" and crown_drop_um is not None:
+        raise InputError(f"{prefix}_crown_drop_um", crown_drop_um,
+                         f"only with roller_profile = \"crowned\" (this roller is {profile}); allowed: remove it")
+    if profile != "logarithmic" and log_scale_um is not None:
+        raise InputError(f"{prefix}_log_scale_um", log_scale_um,
+                         f"only with roller_profile = \"logarithmic\" (this roller is {profile}); allowed: remove it")

@@ -8,7 +8,8 @@ element from its dimensions:
 - **crankshafts**: bending (with shear) between their two support bearings under the discs'
   forces, and torsion between the eccentrics and the planet gear;
 - **crank support bearings**: tapered roller bearings, two per crankshaft (rollers, size,
-  contact angle, clearance or preload);
+  contact angle, clearance or preload, the rollers' profile: logarithmic by default, ISO/TS
+  16281's profile for an unknown one, as tapered rollers of precision bearings are profiled);
 - **carrier**: the pillars that tie the end plate to the output flange;
 - **the discs' sideways motion** on their needle bearings (``disc_translation``): across the
   eccentric by default (the part that carries torque: +51 % on the needle bearings' elastic
@@ -59,6 +60,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from rvbacklash.design.elastic import check_profile
 from rvbacklash.errors import InputError
 
 DEPTH_RATIO_MIN = 1.0  # a beam at least as long as its section is deep (Cowper 1968)
@@ -100,9 +102,24 @@ class StructureInputs(_Strict):
         ge=0, lt=45, description="contact angle alpha of the outer raceway [deg] (tan alpha = e / 1.5 from the "
                                  "catalogue's e factor)")
     support_bearing_clearance_um: float = Field(
-        0.0, ge=-100, le=100, description="radial internal clearance of the mounted support bearings [um]; negative: "
-                                          "preload (shims set it); a clearance is a dead band, a preload raises the "
-                                          "stiffness")
+        0.0, ge=0, le=100, description="radial internal clearance of the mounted support bearings (diametral) [um]: "
+                                       "a dead band; a preload is support_bearing_preload_um")
+    support_bearing_preload_um: float = Field(
+        0.0, ge=0, le=100, description="radial preload of the mounted support bearings: the negative radial internal "
+                                       "clearance the shims set (diametral interference) [um]; raises the stiffness; "
+                                       "exclusive with a clearance")
+    support_bearing_roller_profile: Literal["logarithmic", "crowned", "straight"] = Field(
+        "logarithmic", description="generatrix of the tapered rollers (docs/rollers-notes.md): logarithmic (ISO/TS "
+                                   "16281's profile for an unknown one), crowned (circular crown, "
+                                   "support_bearing_roller_crown_drop_um at the ends), straight (Palmgren's law per "
+                                   "roller, no tilt: the model before profiles). Profiled rollers are sliced and "
+                                   "tilted by the crankshaft's slope at the bearing")
+    support_bearing_roller_crown_drop_um: float | None = Field(
+        None, gt=0, le=100, description="crowned tapered rollers: drop of the circular crown at the ends (radius) "
+                                        "[um]; required with support_bearing_roller_profile = crowned")
+    support_bearing_roller_log_scale_um: float | None = Field(
+        None, gt=0, le=100, description="logarithmic tapered rollers: K in P(x) = K ln(1 / (1 - (2x/L)^2)) [um]; "
+                                        "default ISO/TS 16281: 0.45 D_we (D_we in mm)")
 
     carrier_pillars: int = Field(ge=2, le=24, description="pillars tying the carrier's end plate to the output "
                                                           "flange [-]")
@@ -148,6 +165,12 @@ class StructureInputs(_Strict):
             raise InputError("pillar_depth_mm", self.pillar_depth_mm,
                              f"the pillars would cross the axis; allowed: < 2 pillar_radius_mm = "
                              f"{2.0 * self.pillar_radius_mm:g} mm")
+        if self.support_bearing_clearance_um > 0.0 and self.support_bearing_preload_um > 0.0:
+            raise InputError("support_bearing_preload_um", self.support_bearing_preload_um,
+                             f"a bearing has a clearance or a preload, not both (support_bearing_clearance_um = "
+                             f"{self.support_bearing_clearance_um:g}); allowed: 0 when a clearance is given")
+        check_profile("support_bearing_roller", self.support_bearing_roller_profile,
+                      self.support_bearing_roller_crown_drop_um, self.support_bearing_roller_log_scale_um)
         lo, hi = ROLLER_ASPECT
         dw, lw = self.support_bearing_roller_diameter_mm, self.support_bearing_roller_length_mm
         if not lo * dw <= lw <= hi * dw:

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import numpy as np
+
 from rvbacklash._numba import njit
 
 PALMGREN_COEFFICIENT = 3.84e-5  # [mm N^-0.9 mm^0.8] of Palmgren's roller formula
@@ -558,3 +560,228 @@ def housing_ring_torsion_compliance_rad_per_nm(inner_radius_mm: float, outer_rad
     Parameters [mm, GPa, -]. Validity: plane stress, a full annulus (no bolt holes)."""
     g = shear_modulus_gpa(e_gpa, nu) * 1e3  # N/mm^2
     return (1.0 / inner_radius_mm ** 2 - 1.0 / outer_radius_mm ** 2) / (4.0 * math.pi * g * thickness_mm) * 1e3
+
+
+# --- rolling elements by slices (ISO/TS 16281:2008; docs/rollers-notes.md) --------------------
+# A roller is cut into n_s slices of width L / n_s along its effective length L; slice k at x_k
+# (from the roller's middle) closes by delta_k = delta + tilt x_k - 2 P_k, P_k the roller's
+# profile drop there (it opens both of the roller's contacts, hence 2 P_k: ISO/TS 16281's
+# delta_jk = delta_j - x_k tan(psi_j) - 2 P_k, as transcribed in public implementations; the
+# standard's text was not read here). Approaches [um], x [mm], drops [um] per side, forces [N].
+
+ISO_ROLLER_CONSTANT = 35948.0  # ISO/TS 16281: c_l = 35948 L^(8/9) [N mm^(-10/9)], a roller between two steel raceways
+# ISO/TS 16281's profile for rollers whose profile is not known (log scale [um per mm of D_we]):
+ISO_LOG_SCALE_SHORT = 0.35  # cylindrical and needle rollers, L <= 2.5 D_we: 0.00035 D_we [mm]
+ISO_LOG_SCALE_LONG = 0.5  # cylindrical and needle rollers, L > 2.5 D_we: 0.0005 D_we over the end 1.25 D_we each
+ISO_LOG_SCALE_TAPERED = 0.45  # tapered rollers: 0.00045 D_we
+ISO_LOG_RELIEF_DIAMETERS = 2.5  # long rollers: the profile spans 2.5 D_we (1.25 D_we at each end)
+
+
+def iso_roller_constant_n_per_mm(length_mm: float) -> float:
+    """ISO/TS 16281's normal stiffness constant of a roller between two steel raceways:
+
+        Q = c_l delta^(10/9),   c_l = 35948 L^(8/9)   [N, mm]
+
+    Source: ISO/TS 16281:2008 (roller contact, the slice model: a slice of width L/n_s carries
+    c_l / n_s delta_k^(10/9)); ../shared/reference/anchors.md; the constant as DIN 26281 and
+    public implementations of both use it [the standard's text not read here]. Parameters:
+    length_mm effective roller length L [mm]. Returns c_l [N/mm^(10/9)]. Validity: steel on
+    steel, line contact (L >> contact width). Against Palmgren's two contacts in series
+    (``palmgren_roller_constant_n_per_mm``, 37 310 L^(8/9)) it is 3.8 % softer in load at a given
+    approach, 3.4 % larger in approach at a given load."""
+    return ISO_ROLLER_CONSTANT * length_mm ** (8.0 / 9.0)
+
+
+def palmgren_roller_constant_n_per_mm(length_mm: float) -> float:
+    """Palmgren's roller between two raceways written as Q = c delta^(10/9) [N, mm]: its two contacts
+    in series (delta = 2 x 3.84e-5 Q^0.9 / L^0.8, ``palmgren_line_approach_um``) give
+
+        c = (2 x 3.84e-5)^(-10/9) L^(8/9) = 37 310 L^(8/9)
+
+    Source: Palmgren (1959) as given by Harris & Kotzalas, Rolling Bearing Analysis 5th ed.
+    (2007), the roller-raceway line contact; rearranged. Parameters: L [mm]. Returns c
+    [N/mm^(10/9)]. Validity: as ``palmgren_line_approach_um``."""
+    return (2.0 * PALMGREN_COEFFICIENT) ** (-1.0 / PALMGREN_EXPONENT) * length_mm ** (0.8 / PALMGREN_EXPONENT)
+
+
+def roller_slice_positions_mm(length_mm: float, slices: int) -> np.ndarray:
+    """Centres x_k of n_s equal slices of a roller of effective length L, from its middle:
+
+        x_k = (k + 1/2) L / n_s - L / 2,   k = 0 .. n_s - 1
+
+    Source: ISO/TS 16281:2008, the slice (lamina) model. Parameters: L [mm], n_s [-].
+    Returns x_k [mm] (symmetric about 0)."""
+    return ((np.arange(slices) + 0.5) / slices - 0.5) * length_mm
+
+
+def crowned_profile_drop_um(x_mm: float, length_mm: float, crown_drop_um: float) -> float:
+    """Drop of a circular crown at x from the roller's middle, the crown's arc through the drop
+    ``crown_drop_um`` at both ends of the effective length L:
+
+        P(x) = R - sqrt(R^2 - x^2),   R = ((L/2)^2 + P_e^2) / (2 P_e)   (P(x) ~ P_e (2x/L)^2)
+
+    Source: the circular crowning of Harris & Kotzalas, Rolling Bearing Analysis 5th ed. (2007),
+    roller profiles (crowned rollers); the arc's geometry. Parameters: x [mm], L [mm], P_e the
+    drop at the ends [um] (> 0). Returns P(x) [um] per side (the roller's radius is smaller by it).
+    Validity: |x| <= L/2."""
+    half = 0.5 * length_mm
+    drop_mm = crown_drop_um * 1e-3
+    radius = (half * half + drop_mm * drop_mm) / (2.0 * drop_mm)
+    return (radius - math.sqrt(radius * radius - x_mm * x_mm)) * 1e3
+
+
+def logarithmic_profile_drop_um(x_mm: float, length_mm: float, scale_um: float, relief_mm: float) -> float:
+    """Drop of a logarithmic (Lundberg) profile at x from the roller's middle:
+
+        P(x) = K ln(1 / (1 - t^2)),   t = (2|x| - (L - l_r)) / l_r   where |x| > (L - l_r)/2, else 0
+
+    l_r = L: the whole roller profiled (Lundberg's profile, the uniform-pressure profile of a
+    line contact, Lundberg 1939; Johns & Gohar, Tribology International 14 (1981) 131, add a
+    finite end drop to it); l_r < L: a straight middle and logarithmic ends of l_r / 2 each.
+    ISO/TS 16281:2008 uses this profile for rollers whose profile is not known
+    (``iso_logarithmic_profile``: K = 0.35 D_we um per mm, l_r = L for cylindrical and needle
+    rollers up to L = 2.5 D_we; K = 0.5 D_we, l_r = 2.5 D_we for longer ones; K = 0.45 D_we, l_r = L
+    for tapered rollers; as transcribed in public implementations of the standard, its text not
+    read here). Parameters: x [mm], L [mm], K [um], l_r [mm] (0 < l_r <= L). Returns P(x) [um]
+    per side; infinite at the ends (read it at the slices' centres). Validity: |x| < L/2."""
+    straight = 0.5 * (length_mm - relief_mm)
+    if abs(x_mm) <= straight:
+        return 0.0
+    t = (2.0 * abs(x_mm) - (length_mm - relief_mm)) / relief_mm
+    return scale_um * math.log(1.0 / (1.0 - t * t))
+
+
+def iso_logarithmic_profile(roller_diameter_mm: float, length_mm: float, tapered: bool) -> tuple[float, float]:
+    """(K [um], l_r [mm]) of ISO/TS 16281:2008's logarithmic profile for a roller whose profile is not
+    known (``logarithmic_profile_drop_um``): cylindrical and needle rollers K = 0.35 D_we, l_r = L
+    when L <= 2.5 D_we, else K = 0.5 D_we, l_r = 2.5 D_we; tapered rollers K = 0.45 D_we, l_r = L
+    (D_we in mm, K in um: the standard's 0.00035 D_we mm etc.). Source: ISO/TS 16281:2008, the
+    roller profile equations (numbered (42)-(44) in a public implementation; the standard's text
+    not read here). Parameters: D_we [mm], L [mm], tapered. Returns (K, l_r)."""
+    if tapered:
+        return ISO_LOG_SCALE_TAPERED * roller_diameter_mm, length_mm
+    if length_mm <= ISO_LOG_RELIEF_DIAMETERS * roller_diameter_mm:
+        return ISO_LOG_SCALE_SHORT * roller_diameter_mm, length_mm
+    return ISO_LOG_SCALE_LONG * roller_diameter_mm, ISO_LOG_RELIEF_DIAMETERS * roller_diameter_mm
+
+
+@njit(cache=True)
+def law_force_n(delta_um, a, b, n):
+    """Inverse of the contact law as the solver reads it (``law_approach_continued_um``): the force F
+    [N] that closes a contact by delta [um] > 0 (0 for delta <= 0).
+
+    Palmgren (b = 0): F = (delta / a)^(1/n). Johnson (n = 1, b > 0): Newton on the concave,
+    increasing F (a - b ln F) - delta, safeguarded by bisection in ln F between 0 and F_lim =
+    exp(a/b - 2), beyond which the law is its tangent (``law_approach_continued_um``). Source:
+    the law's own formula; the same root as ``models.elastic.solver.law_force``, converged to 1e-15
+    relative. Parameters: delta [um], a, b, n as ``law_approach_um``. Returns F [N]."""
+    if delta_um <= 0.0:
+        return 0.0
+    if b == 0.0:
+        return (delta_um / a) ** (1.0 / n)
+    f_lim = math.exp(a / b - 2.0)
+    d_lim = 2.0 * b * f_lim
+    if delta_um >= d_lim:
+        return f_lim + (delta_um - d_lim) / b
+    lo, hi = 0.0, f_lim
+    f = min(delta_um / a, 0.5 * f_lim)
+    for _ in range(200):
+        g = f * (a - b * math.log(f)) - delta_um
+        if g < 0.0:
+            lo = f
+        else:
+            hi = f
+        fn = f - g / (a - b * math.log(f) - b)
+        if not (lo < fn < hi):
+            fn = math.sqrt(lo * hi) if lo > 0.0 else 0.5 * hi
+        if abs(fn - f) <= 1e-15 * f:
+            return fn
+        f = fn
+    return f
+
+
+@njit(cache=True)
+def sliced_roller_load_n(approach_um, tilt_rad, x_mm, drop_um, a, b, n):
+    """Normal load of a roller by slices at an approach delta of its middle and a tilt:
+
+        Q = sum_k F(max(0, delta + tilt x_k - 2 P_k) ) / n_s
+
+    F: the roller's straight law inverted (``law_force_n``: delta = F^n (a - b ln F) for the whole
+    roller, its two contacts in series). A slice of width L / n_s carries the line load of the
+    whole roller at its own approach (for Palmgren's law that is Q_k = c_l / n_s delta_k^(10/9),
+    c_l = a^(-10/9) [N um^(-10/9)], ISO/TS 16281's form with Palmgren's constant,
+    ``palmgren_roller_constant_n_per_mm``; for Johnson's, the line load at which the approach of a
+    line contact is delta_k), so that a straight roller without tilt is the straight law itself.
+    Source: ISO/TS 16281:2008, the slice model (delta_jk = delta_j - x_k tan psi_j - 2 P_k);
+    Harris & Kotzalas, Rolling Bearing Analysis 5th ed. (2007), roller-raceway contact with a
+    profile and misalignment. Parameters: approach delta [um]; tilt [rad] (the raceways'
+    misalignment in the roller's plane); x_mm slice centres [mm] (``roller_slice_positions_mm``);
+    drop_um the profile's drop P_k at each [um] (per side); a, b, n the roller's straight law.
+    Returns Q [N]. Validity: slices independent (no shear between them: ISO's simplification),
+    tilt small (tan psi = psi)."""
+    m = x_mm.size
+    q = 0.0
+    for k in range(m):
+        d = approach_um + tilt_rad * x_mm[k] * 1e3 - 2.0 * drop_um[k]
+        if d > 0.0:
+            q += law_force_n(d, a, b, n)
+    return q / m
+
+
+@njit(cache=True)
+def sliced_roller_approach_um(load_n, tilt_rad, x_mm, drop_um, a, b, n):
+    """Inverse of ``sliced_roller_load_n``: the approach delta [um] at which the sliced roller carries
+    Q = load_n > 0 (monotone: Q rises with delta once a slice touches). Bracketed: at
+    delta_0 = min_k (2 P_k - tilt x_k) no slice touches; at delta_0 + spread + delta_straight(Q)
+    every slice is closed by at least the straight roller's approach. Illinois regula falsi
+    with bisection, to 1e-14 of the bracket. Parameters as ``sliced_roller_load_n``; load [N].
+    Returns delta [um]."""
+    m = x_mm.size
+    lo = math.inf
+    top = -math.inf
+    for k in range(m):
+        v = 2.0 * drop_um[k] - tilt_rad * x_mm[k] * 1e3
+        lo = min(lo, v)
+        top = max(top, v)
+    hi = top + law_approach_continued_um(load_n, a, b, n)
+    flo = -load_n
+    fhi = sliced_roller_load_n(hi, tilt_rad, x_mm, drop_um, a, b, n) - load_n
+    side = 0
+    x = hi
+    for _ in range(300):
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        if not (lo < x < hi):
+            x = 0.5 * (lo + hi)
+        fx = sliced_roller_load_n(x, tilt_rad, x_mm, drop_um, a, b, n) - load_n
+        if fx == 0.0 or hi - lo <= 1e-14 * (abs(lo) + abs(hi)):
+            return x
+        if fx > 0.0:
+            hi, fhi = x, fx
+            if side == 1:
+                flo *= 0.5
+            side = 1
+        else:
+            lo, flo = x, fx
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+    return x
+
+
+def crank_support_slope_rad_per_n(span_mm: float, load_offset_mm: float, diameter_mm: float, e_gpa: float) -> float:
+    """Slope (cross-section rotation) at either support of a simply supported crankshaft carrying two
+    equal loads P in the same direction, symmetric about mid-span at c from the supports (the case
+    of ``crank_symmetric_deflection_um_per_n``), per unit load:
+
+        phi / P = c (L - c) / (2 E I),   I = pi d^4 / 64
+
+    Source: Young & Budynas, Roark's Formulas for Stress and Strain, 7th ed. (2002), Table 8.1 case
+    1e (theta_A = W b (l^2 - b^2) / (6 E I l) for a load at a = l - b), the two loads superposed:
+    c (L-c)(2L-c)/(6 E I L) + c (L-c)(L+c)/(6 E I L). Bending only: Timoshenko's shear term moves
+    the centre line, not the section, and the bearing's inner ring turns with the section.
+    Parameters: span L [mm], offset c [mm], diameter d [mm] (equivalent solid round section),
+    E [GPa]. Returns [rad/N]. Validity: as ``crank_symmetric_deflection_um_per_n``; the bearing
+    is taken as a simple support, so its own resistance to the tilt is not fed back (the slope is
+    an upper bound)."""
+    inertia = math.pi * diameter_mm ** 4 / 64.0
+    return load_offset_mm * (span_mm - load_offset_mm) / (2.0 * e_gpa * 1e3 * inertia)

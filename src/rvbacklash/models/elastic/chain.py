@@ -47,9 +47,12 @@ from rvbacklash._numba import njit, njit_borrowing
 from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.design.structure import StructureInputs
 from rvbacklash.errors import InputError
+from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.contact import crank_step_angle_rad
+from rvbacklash.models.elastic.rollers import STRAIGHT, RollerLawFit, SlicedRoller, fit_roller_law, fitted_law_valid, \
+    sliced_roller
 from rvbacklash.models.elastic.solver import (N_TRANSLATION_ROWS, NEGATIVE, POSITIVE, ContactLaw, ContactSet,
                                               DiscTranslation, PinSet, SupportMemo, SupportSet, closure_order,
                                               new_state, set_bounds, solve_pins, solve_set, support_deflection_um)
@@ -128,6 +131,9 @@ class Chain(NamedTuple):
     seat_a: float  # a of the seat's law, included in every pin's a (pin_law_a) [um/N^n]
     seat_b_fraction: float  # b_seat / law_b (Johnson: the seat's part of the shared b; Palmgren: 0)
     disc_body_compliance_rad_per_nm: float  # the discs' bodies (FE, mechanics.disc_body) at the output
+    # the crank needle rollers' own exponent: delta = F^roller_n (roller_a - roller_b ln F) (law_n for straight
+    # rollers; a profiled roller's fitted law, rollers.fit_roller_law)
+    roller_n: float
 
 
 @dataclass(frozen=True)
@@ -146,6 +152,8 @@ class ElasticModel:
     derived: bool = False  # the crankshafts, support bearings and carrier derived from ``structure``
     disc_body: Any = None  # mechanics.disc_body.DiscBodyResult: the discs' bodies by FE (None: rigid)
     carrier_body: Any = None  # mechanics.carrier_body.CarrierBodyResult: the carrier by FE (None: pillars)
+    needle_fit: RollerLawFit | None = None  # profiled needle rollers: their sliced law's fit (None: straight)
+    support_roller: SlicedRoller = STRAIGHT  # the support bearings' rollers by slices (STRAIGHT: Palmgren's law)
 
     @property
     def lever_factor(self) -> float:
@@ -241,10 +249,51 @@ def closed_form_model(problem: Problem) -> ElasticModel:
         carrier_compliance_rad_per_nm=0.0, main_bearing_compliance_rad_per_nm=c_main, support_rollers=0,
         support_cos_alpha=1.0, support_clearance_um=0.0, support_a=1.0, support_symmetric=False,
         support_force_n_per_nm=0.0, translation_rounds=TRANSLATION_ROUNDS, seat_a=seat_a,
-        seat_b_fraction=seat_b_fraction, disc_body_compliance_rad_per_nm=0.0)
+        seat_b_fraction=seat_b_fraction, disc_body_compliance_rad_per_nm=0.0, roller_n=law_n)
     psi = 2 * math.pi * np.arange(e.crank_bearing_rollers) / e.crank_bearing_rollers
     model = ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
+    if e.crank_bearing_roller_profile != "straight":
+        model = with_profiled_needles(problem, model)
     return with_structure(problem, model) if design.structure is not None else model
+
+
+def with_profiled_needles(problem: Problem, model: ElasticModel) -> ElasticModel:
+    """The model with the crank needle rollers' profile (docs/rollers-notes.md): their sliced law
+    (``rollers.sliced_roller``, no tilt) fitted as a power law (``rollers.fit_roller_law``) over the
+    roller loads the bearing sees: from half the most loaded roller's at the lost motion's torque
+    (x T_R, no clearance) to the most loaded roller's at the rated torque with the largest
+    clearance of the design's zone (factor ``crank_bearing_clearance``; under the straight law's
+    load sharing, then the fitted law's, the larger). The kernel then runs today's code with
+    these coefficients (roller_a, roller_b = 0, roller_n)."""
+    e, c = model.inputs, model.chain
+    roller = sliced_roller(e.crank_bearing_roller_profile, e.crank_bearing_roller_length_mm,
+                           e.crank_bearing_roller_diameter_mm, False, e.crank_bearing_roller_crown_drop_um,
+                           e.crank_bearing_roller_log_scale_um)
+    clearance = max(problem.zones[FACTOR_KEYS.index("crank_bearing_clearance")].upper_um, 0.0)
+    rated = c.rated_torque_nm * c.bearing_force_n_per_nm
+    q_min = 0.5 * most_loaded_roller_n(model.roller_cos, c, 0.0, c.measuring_fraction * rated)
+    q_max = most_loaded_roller_n(model.roller_cos, c, clearance, rated)
+    fit = fit_roller_law(roller, c.roller_a, c.roller_b, c.law_n, q_min, q_max)
+    fitted = c._replace(roller_a=fit.a, roller_b=0.0, roller_n=fit.n)
+    q_fit = most_loaded_roller_n(model.roller_cos, fitted, clearance, rated)
+    if q_fit > q_max:  # the profiled rollers share the load differently: cover their own range
+        fit = fit_roller_law(roller, c.roller_a, c.roller_b, c.law_n, q_min, q_fit)
+        fitted = c._replace(roller_a=fit.a, roller_b=0.0, roller_n=fit.n)
+    if not fitted_law_valid(fit):
+        raise InputError("elastic.crank_bearing_roller_profile", e.crank_bearing_roller_profile,
+                         f"the profiled needle's law could not be represented over {fit.load_min_n:.4g}-"
+                         f"{fit.load_max_n:.4g} N (fit a = {fit.a:.4g}, n = {fit.n:.4g}); allowed: straight, or a "
+                         f"smaller crown or log-profile scale")
+    return replace(model, chain=fitted, needle_fit=fit)
+
+
+def most_loaded_roller_n(roller_cos: np.ndarray, c: Chain, clearance_um: float, load_n: float) -> float:
+    """The largest roller load [N] of a crank needle bearing carrying ``load_n`` [N] with radial
+    clearance ``clearance_um`` under the Chain's roller law (``prepare_rollers``, ``solve_set``)."""
+    cs = prepare_rollers(clearance_um, roller_cos, c)
+    x = solve_set(cs, ContactLaw(c.roller_b, c.roller_n, 1.0), load_n, 1.0, np.nan, (np.nan, np.nan)).x
+    closures = roller_cos * x - 0.5 * clearance_um
+    return max(cm.law_force_n(float(v), c.roller_a, c.roller_b, c.roller_n) for v in closures)
 
 
 def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
@@ -285,17 +334,28 @@ def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
                                                                                    st.pillar_radius_mm, k),
             support_rollers=int(st.support_bearing_rollers),
             support_cos_alpha=math.cos(math.radians(st.support_bearing_contact_angle_deg)),
-            support_clearance_um=st.support_bearing_clearance_um,
+            support_clearance_um=st.support_bearing_clearance_um - st.support_bearing_preload_um,
             support_a=2.0 * cm.palmgren_law_a(st.support_bearing_roller_length_mm),
             support_symmetric=st.support_bearing_rollers % 2 == 0,
             # each end of a crank takes half of both discs' forces on it (discs symmetric about mid-span)
             support_force_n_per_nm=c.bearing_force_n_per_nm * problem.cycloid.discs / 2.0)
+    support_roller = STRAIGHT
+    if derived and st.support_bearing_roller_profile != "straight":
+        # the crank's slope at its supports tilts each support bearing's inner ring (Roark case 1e); per N
+        # of the bearing's radial load: the crank carries bearing_force per eccentric, the bearing support_force
+        offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
+        slope = cm.crank_support_slope_rad_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
+                                                 st.shaft_youngs_modulus_gpa)
+        support_roller = sliced_roller(st.support_bearing_roller_profile, st.support_bearing_roller_length_mm,
+                                       st.support_bearing_roller_diameter_mm, True,
+                                       st.support_bearing_roller_crown_drop_um, st.support_bearing_roller_log_scale_um,
+                                       slope * c.bearing_force_n_per_nm / changes["support_force_n_per_nm"])
     if st.disc_translation != "none":
         rho = problem.cycloid.a_mm * problem.cycloid.zc
         changes.update(translation_factor=cm.disc_translation_factor(a0, rho))
     if st.disc_translation == "full":
         changes.update(radial_stiffness_n_per_um=radial_stiffness_n_per_um(model, st))
-    return replace(model, chain=c._replace(**changes), structure=st, derived=derived)
+    return replace(model, chain=c._replace(**changes), structure=st, derived=derived, support_roller=support_roller)
 
 
 def check_small_deflections(st: StructureInputs, c: Chain, crank_torque_nm: float, pillar_shear_n: float) -> None:
@@ -352,7 +412,7 @@ def needle_secant_stiffness_n_per_um(model: ElasticModel, load_n: float) -> floa
     """One crank needle bearing's secant stiffness [N/um] at the radial load ``load_n`` [N], zero
     clearance (its rollers solved with the chain's law: ``prepare_rollers``, ``solve_set``)."""
     c = model.chain
-    deflection = solve_set(prepare_rollers(0.0, model.roller_cos, c), ContactLaw(c.roller_b, c.law_n, 1.0), load_n,
+    deflection = solve_set(prepare_rollers(0.0, model.roller_cos, c), ContactLaw(c.roller_b, c.roller_n, 1.0), load_n,
                            1.0, np.nan, (np.nan, np.nan)).x
     return load_n / deflection
 
@@ -550,18 +610,26 @@ def prepare_rollers(crank_clearance_um, roller_cos, c):
     return ContactSet(g, roller_cos, la, set_bounds(g, roller_cos, z), np.zeros(z), -1, 0)
 
 
+def prepare_support(c: Chain, roller: SlicedRoller | None = None):
+    """``support_set`` with the support rollers' slices (``ElasticModel.support_roller``; None:
+    straight rollers, Palmgren's law per roller)."""
+    return support_set(c, STRAIGHT if roller is None else roller)
+
+
 @njit(nogil=True, cache=True)
-def prepare_support(c):
+def support_set(c, roller):
     """One crank support (tapered roller) bearing's rollers under a radial load, axially held (the
     two of a crank face each other and carry equal loads, so their induced axial forces cancel):
     roller i at psi_i = 2 pi i / Z closes, normal to its raceway, by (delta_r cos psi_i - G / 2)
     cos(alpha); its normal force Q_i bears cos(alpha) cos(psi_i) of itself radially. Levers
     cos(alpha) cos(psi_i), gaps G cos(alpha) / 2, Palmgren's law (Harris & Kotzalas, Rolling
     Bearing Analysis 5th ed., the load distribution of a radially loaded roller bearing with
-    clearance; docs/elastic.md): a SupportSet. The support bearings' deflection is the same
-    function of the chain's torque for every unit of a design: its memo keeps SUPPORT_MEMO torques,
-    sides and deflections solved, so that repeated ``chain_angles`` calls on one set (a unit's loop
-    table) solve each torque once (a batch of units reads the loop's ten from ``loop_points``)."""
+    clearance; docs/elastic.md): a SupportSet; ``roller``: its rollers by slices
+    (``rollers.SlicedRoller``: the profile and the crank's tilt, ``solver.solve_sliced_set``; no
+    slices: Palmgren's law per roller). The support bearings' deflection is the same function of
+    the chain's torque for every unit of a design: its memo keeps SUPPORT_MEMO torques, sides and
+    deflections solved, so that repeated ``chain_angles`` calls on one set (a unit's loop table)
+    solve each torque once (a batch of units reads the loop's ten from ``loop_points``)."""
     z = c.support_rollers
     lv = np.empty(z)
     for i in range(z):
@@ -570,7 +638,7 @@ def prepare_support(c):
     la = np.full(z, c.support_a)
     return SupportSet(ContactSet(g, lv, la, set_bounds(g, lv, z), np.zeros(z), -1, 0),
                       SupportMemo(np.full(SUPPORT_MEMO, np.nan), np.full(SUPPORT_MEMO, np.nan),
-                                  np.full(SUPPORT_MEMO, np.nan)))
+                                  np.full(SUPPORT_MEMO, np.nan)), roller)
 
 
 class LoopUnit(NamedTuple):
@@ -623,7 +691,7 @@ def _chain_angles(t_el, side, unit, support_um, c, state, out):
     if c.rollers_symmetric and load != 0.0 and abs(load) == st.rollers_last_load_n:
         dr = s * st.rollers_last_um  # an even number of rollers, one on the load line: the mirror of the last solve
     else:
-        dr = solve_set(rollers, ContactLaw(c.roller_b, c.law_n, 1.0), load, s, st.rollers_start[k],
+        dr = solve_set(rollers, ContactLaw(c.roller_b, c.roller_n, 1.0), load, s, st.rollers_start[k],
                        (np.nan, np.nan)).x
         st.rollers_last_load_n = abs(load)
         st.rollers_last_um = abs(dr)

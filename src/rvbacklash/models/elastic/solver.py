@@ -19,6 +19,7 @@ import numpy as np
 
 from rvbacklash._numba import njit
 from rvbacklash.models import compliance as cm
+from rvbacklash.models.elastic.rollers import SlicedRoller
 
 TINY_LEVER = 1e-3  # of the largest lever: a contact that cannot bound a rotation (set_bounds)
 SETTLE = 1e-4  # set_load: a force is stepped again while its relative error bound is above this
@@ -114,10 +115,12 @@ class SupportMemo(NamedTuple):
 
 
 class SupportSet(NamedTuple):
-    """One crank support (tapered-roller) bearing's rollers and the memo of its solves."""
+    """One crank support (tapered-roller) bearing's rollers, the memo of its solves, and its rollers'
+    slices (``rollers.SlicedRoller``; none: straight rollers, Palmgren's law per roller as before)."""
 
     contacts: ContactSet
     memo: SupportMemo
+    roller: SlicedRoller
 
 
 # A unit's warm starts through its loop (new_state; chain_angles): per side (POSITIVE, NEGATIVE)
@@ -537,8 +540,12 @@ def support_deflection_um(t_el, s, support, c, state):
         ds = s * st.support_last_um
     else:
         k = POSITIVE if s > 0.0 else NEGATIVE
-        ds = solve_set(support.contacts, ContactLaw(0.0, cm.PALMGREN_EXPONENT, 1.0), sload, s, st.support_start[k],
-                       (np.nan, np.nan)).x
+        if support.roller.x_mm.size > 0:  # profiled rollers: by slices, with the crank's tilt
+            ds = solve_sliced_set(support.contacts, support.roller, c.support_a, 0.0, cm.PALMGREN_EXPONENT,
+                                  c.support_cos_alpha, sload, s)
+        else:
+            ds = solve_set(support.contacts, ContactLaw(0.0, cm.PALMGREN_EXPONENT, 1.0), sload, s,
+                           st.support_start[k], (np.nan, np.nan)).x
         if sload != 0.0:
             st.support_start[k] = ds
         st.support_last_load_n = abs(sload)
@@ -548,3 +555,90 @@ def support_deflection_um(t_el, s, support, c, state):
         memo.side[free] = side
         memo.deflection_um[free] = ds
     return ds
+
+
+@njit(nogil=True, cache=True)
+def sliced_set_load(x, cs, roller, a, b, n, cos_alpha, tilt_rad):
+    """(load sum Q_j levers_j [N], scale sum |Q_j levers_j| [N]) of a bearing's sliced rollers
+    (ContactSet ``cs``: roller j closes by levers_j x - gaps_j at its middle) at x: each roller's
+    load by slices (``compliance.sliced_roller_load_n``, the straight roller's law a, b, n: the
+    support bearings' is Palmgren's for two contacts) with the raceways' misalignment
+    tilt cos(psi_j) in its plane (levers_j = cos(alpha) cos(psi_j)): a tilt of the inner ring about
+    the bearing's pressure centre moves no roller's middle along its normal, it turns the raceway
+    along each roller by the tilt's component in the roller's plane (ISO/TS 16281: psi_j = psi
+    cos(phi_j))."""
+    load = 0.0
+    scale = 0.0
+    for j in range(cs.gaps.size):
+        lv = cs.levers[j]
+        q = cm.sliced_roller_load_n(lv * x - cs.gaps[j], tilt_rad * lv / cos_alpha, roller.x_mm, roller.drop_um, a, b,
+                                    n)
+        load += q * lv
+        scale += q * abs(lv)
+    return load, scale
+
+
+@njit(nogil=True, cache=True)
+def solve_sliced_set(cs, roller, a, b, n, cos_alpha, load, side):
+    """The coordinate x [um] at which a bearing's sliced rollers (``sliced_set_load``) carry ``load``
+    [N] (its sign: the direction; the straight roller's law a, b, n; levers cos(alpha) cos(psi_j)),
+    the tilt being roller.tilt_rad_per_n |load|; at load 0 the edge
+    of the free band on ``side`` (where the first slice touches), or the preloaded equilibrium.
+    The load rises monotonically with x: bracketed by steps doubling from the edges, then Illinois
+    regula falsi with bisection, to 1e-12 of the load (or of the rollers' loads at a preloaded
+    equilibrium) or 1e-14 of x. Once per design and torque (``support_deflection_um``)."""
+    tilt = roller.tilt_rad_per_n * abs(load)
+    lowest = np.inf  # the profile's smallest opening (both contacts)
+    lift = 0.0  # and the slices' largest distance from the roller's middle [um]
+    for k in range(roller.x_mm.size):
+        lowest = min(lowest, 2.0 * roller.drop_um[k])
+        lift = max(lift, abs(roller.x_mm[k]) * 1e3)
+    hi_edge, lo_edge = np.inf, -np.inf
+    for j in range(cs.gaps.size):  # the first roller to touch on either side, without the tilt
+        lv = cs.levers[j]
+        if lv > 0.0:
+            hi_edge = min(hi_edge, (cs.gaps[j] + lowest) / lv)
+        elif lv < 0.0:
+            lo_edge = max(lo_edge, (cs.gaps[j] + lowest) / lv)
+    if load == 0.0 and lo_edge <= hi_edge:
+        return hi_edge if side > 0.0 else lo_edge
+    reach = tilt * lift / cos_alpha  # a tilted roller touches this much earlier [um of x at most]
+    xl = min(hi_edge, lo_edge) - reach
+    xh = max(hi_edge, lo_edge) + reach
+    step = max(1.0, xh - xl)
+    fl = sliced_set_load(xl, cs, roller, a, b, n, cos_alpha, tilt)[0] - load
+    for _ in range(200):
+        if fl <= 0.0:
+            break
+        xl -= step
+        step *= 2.0
+        fl = sliced_set_load(xl, cs, roller, a, b, n, cos_alpha, tilt)[0] - load
+    step = max(1.0, xh - xl)
+    fh = sliced_set_load(xh, cs, roller, a, b, n, cos_alpha, tilt)[0] - load
+    for _ in range(200):
+        if fh >= 0.0:
+            break
+        xh += step
+        step *= 2.0
+        fh = sliced_set_load(xh, cs, roller, a, b, n, cos_alpha, tilt)[0] - load
+    x = xh
+    last = 0
+    for _ in range(400):
+        x = xh - fh * (xh - xl) / (fh - fl) if fh != fl else 0.5 * (xl + xh)
+        if not (xl < x < xh):
+            x = 0.5 * (xl + xh)
+        f, scale = sliced_set_load(x, cs, roller, a, b, n, cos_alpha, tilt)
+        f -= load
+        if abs(f) <= 1e-12 * max(abs(load), scale) or xh - xl <= 1e-14 * (abs(xl) + abs(xh)):
+            return x
+        if f > 0.0:
+            xh, fh = x, f
+            if last == 1:
+                fl *= 0.5
+            last = 1
+        else:
+            xl, fl = x, f
+            if last == -1:
+                fh *= 0.5
+            last = -1
+    return x

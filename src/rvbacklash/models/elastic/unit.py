@@ -58,7 +58,7 @@ def loop_design(model: ElasticModel, pin_laws: np.ndarray | None = None) -> Loop
     """The LoopDesign of an elastic model (``pin_laws``: its pin_law_table; None: none)."""
     c = model.chain
     table = pin_laws if pin_laws is not None else np.empty((0, model.geometry.discs * model.geometry.zp))
-    return LoopDesign(c, model.roller_cos, loop_points(prepare_support(c), c), table)
+    return LoopDesign(c, model.roller_cos, loop_points(prepare_support(c, model.support_roller), c), table)
 
 
 @njit(nogil=True, cache=True, inline="always")
@@ -130,7 +130,7 @@ class PreparedUnit:
         law = np.empty(unit.gap_um.shape)
         fill_pin_law(unit.chi_rad, c, law)
         self.law_a = law
-        self.support = prepare_support(c)
+        self.support = prepare_support(c, model.support_roller)
         pins = prepare_pins(unit._replace(chi_rad=float(unit.chi_rad)), c, model.translating,
                             np.empty((0, unit.gap_um.size)))
         self.loop = LoopUnit(pins, prepare_rollers(unit.crank_clearance_um, model.roller_cos, c),
