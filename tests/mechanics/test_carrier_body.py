@@ -4,7 +4,6 @@ closed form, mesh convergence on rv80e, bad fields refused naming the field, the
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
 import numpy as np

@@ -42,6 +42,13 @@ motion of 4.5e11 arcmin. A design is refused (field, value, allowed range) outsi
   about 1-2.5 diameters long; rv80e: 2); a disc of a roller or a needle is outside it;
 - *pillars that fit*: their tangential width below the chord between two neighbours on the
   pillar circle (2 R_p sin(pi / n_p)), their radial depth inside the circle (h < 2 R_p);
+- *the FE carrier* (``CARRIER_FE_FIELDS``, all five or none: ``has_carrier_fe``; the body in
+  mechanics/carrier_body.py): the plates hold the pillars (their outer corners inside the outline,
+  their inner faces outside the central hole) and are no thinner than their diameter over
+  ``SLENDERNESS_MAX``; the seats (bores of the support bearings' outer diameter on the crank
+  circle) are larger than the crankshaft's journal and keep ``MIN_WALL_MM`` = 1 mm to the
+  outline, the central hole, each other and the pillars (``check_structure``): thinner walls are
+  not a carrier and are not meshed;
 - against the rest of the design (``check_structure``, called by ``Design``): the crankshaft's
   diameters between half the eccentric's (the crank needle bearing's raceway D_e: a crank whose
   equivalent section is under half the eccentric it carries is not the part the formula
@@ -169,7 +176,6 @@ class StructureInputs(_Strict):
             raise InputError("pillar_depth_mm", self.pillar_depth_mm,
                              f"the pillars would cross the axis; allowed: < 2 pillar_radius_mm = "
                              f"{2.0 * self.pillar_radius_mm:g} mm")
-        _carrier_outline(self)
         lo, hi = ROLLER_ASPECT
         dw, lw = self.support_bearing_roller_diameter_mm, self.support_bearing_roller_length_mm
         if not lo * dw <= lw <= hi * dw:
@@ -202,7 +208,7 @@ def has_carrier_fe(structure: StructureInputs | None) -> bool:
     return structure is not None and all(getattr(structure, name) is not None for name in CARRIER_FE_FIELDS)
 
 
-def _carrier_outline(st: StructureInputs) -> None:
+def _check_carrier_outline(st: StructureInputs) -> None:
     """The FE carrier's plates against its pillars (module docstring, "Validity"): all five fields or
     none, the pillars standing on the plates (inside the outline, outside the central hole, walls
     of MIN_WALL_MM), plates no thinner than their diameter over SLENDERNESS_MAX."""
@@ -211,26 +217,27 @@ def _carrier_outline(st: StructureInputs) -> None:
         return
     missing = [name for name in CARRIER_FE_FIELDS if getattr(st, name) is None]
     if missing:
-        raise InputError(missing[0], allowed=f"missing: the FE carrier needs all of {', '.join(CARRIER_FE_FIELDS)} "
-                                             f"({', '.join(given)} given); allowed: all five, or none (pillars "
-                                             f"clamped in rigid plates)")
+        raise InputError(f"structure.{missing[0]}",
+                         allowed=f"missing: the FE carrier needs all of {', '.join(CARRIER_FE_FIELDS)} "
+                                 f"({', '.join(given)} given); allowed: all five, or none (pillars clamped in rigid "
+                                 f"plates)")
     outer = st.carrier_outer_diameter_mm
     corner = math.hypot(st.pillar_radius_mm + 0.5 * st.pillar_depth_mm, 0.5 * st.pillar_width_mm)
     if not corner + MIN_WALL_MM <= 0.5 * outer:
-        raise InputError("carrier_outer_diameter_mm", outer,
+        raise InputError("structure.carrier_outer_diameter_mm", outer,
                          f"the plates do not hold the pillars (their outer corners reach {corner:.4g} mm from the "
                          f"axis); allowed: >= {2.0 * (corner + MIN_WALL_MM):.4g} mm (a {MIN_WALL_MM:g} mm wall)")
     bore, inner = st.carrier_bore_diameter_mm, st.pillar_radius_mm - 0.5 * st.pillar_depth_mm
     if bore > 0 and not 0.5 * bore + MIN_WALL_MM <= inner:
-        raise InputError("carrier_bore_diameter_mm", bore,
+        raise InputError("structure.carrier_bore_diameter_mm", bore,
                          f"the central hole cuts the pillars (their inner faces at {inner:.4g} mm from the axis); "
                          f"allowed: 0 (none) or <= {2.0 * (inner - MIN_WALL_MM):.4g} mm (a {MIN_WALL_MM:g} mm wall)")
     for name in ("carrier_flange_thickness_mm", "carrier_end_plate_thickness_mm"):
         t = getattr(st, name)
         if not outer <= SLENDERNESS_MAX * t:
-            raise InputError(name, t, f"a plate {outer:g} mm across this thin is a membrane, not a carrier plate; "
-                                      f"allowed: >= carrier_outer_diameter_mm / {SLENDERNESS_MAX:g} = "
-                                      f"{outer / SLENDERNESS_MAX:.4g} mm")
+            raise InputError(f"structure.{name}", t,
+                             f"a plate {outer:g} mm across this thin is a membrane, not a carrier plate; allowed: >= "
+                             f"carrier_outer_diameter_mm / {SLENDERNESS_MAX:g} = {outer / SLENDERNESS_MAX:.4g} mm")
 
 
 def _rectangle_distance_mm(x: float, y: float, angle_rad: float, radius_mm: float, depth_mm: float,
@@ -303,5 +310,6 @@ def check_structure(design) -> None:
         raise InputError("structure.pillar_radius_mm", st.pillar_radius_mm,
                          f"the pillars pass through the discs; allowed: pillar_radius_mm + pillar_depth_mm / 2 < "
                          f"the discs' root radius r_p - r_rp - a = {root:.4g} mm")
+    _check_carrier_outline(st)  # after the pillars' own limits: those name the part to change first
     if has_carrier_fe(st):
         _check_carrier_seats(design, st)

@@ -4,7 +4,7 @@ shares (docs/fe-carrier-notes.md).
 - ``gmsh_session``: a gmsh model for one mesh (no terminal output, Ctrl-C left to the caller);
 - ``tet_mesh``: the model's linear tetrahedra as a scikit-fem ``MeshTet``;
 - ``vector_p2_basis``: quadratic tetrahedra (``ElementVector(ElementTetP2())``), straight-sided;
-- ``stiffness_matrix``: Hooke's law (``linear_elasticity``, ``lame_parameters``) in N and mm;
+- ``stiffness_matrix``: Hooke's law (as scikit-fem's ``linear_elasticity``, vectorised) in N and mm;
 - ``solve_clamped``: K u = f with some degrees of freedom held at zero, by conjugate gradients
   preconditioned with smoothed-aggregation algebraic multigrid (pyamg) on the body's rigid-body
   modes: a sparse direct solver needed ~15 GiB for a carrier of ~20 000 quadratic nodes.
@@ -24,7 +24,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import cg
 from scipy.spatial import cKDTree
 from skfem import Basis, ElementTetP2, ElementVector, MeshTet
-from skfem.models.elasticity import lame_parameters, linear_elasticity
+from skfem.models.elasticity import lame_parameters
 
 CG_RTOL = 1e-7  # relative residual: the compliance (an energy) converges like its square (rv80e: the same
                 # to 10 digits at 1e-6 as at 1e-10)
@@ -76,9 +76,26 @@ def vector_p2_basis(mesh: MeshTet, elements: np.ndarray | None = None) -> Basis:
 
 
 def stiffness_matrix(basis: Basis, e_mpa: float, nu: float) -> sp.csr_matrix:
-    """Stiffness matrix of an isotropic body, K = int eps(v) : C eps(u) dV [N/mm], Young's modulus
-    E [MPa], Poisson's ratio nu [-] (Lame's lambda and mu from ``lame_parameters``)."""
-    return linear_elasticity(*lame_parameters(e_mpa, nu)).assemble(basis).tocsr()
+    """Stiffness matrix of an isotropic body [N/mm], Young's modulus E [MPa], Poisson's ratio nu [-]:
+
+        K_ij = int (2 mu eps(phi_i) : eps(phi_j) + lambda tr eps(phi_i) tr eps(phi_j)) dV
+
+    (Lame's lambda and mu from ``lame_parameters``; the same matrix as scikit-fem's
+    ``linear_elasticity(...).assemble(basis)``, checked in the tests). Each element's matrix is one
+    product F F^T, F the basis functions' strains scaled by the quadrature weights (stacked over
+    the quadrature points): 2-3x faster than the form's pairwise loop."""
+    lam, mu = lame_parameters(e_mpa, nu)
+    grad = np.stack([phi[0].grad for phi in basis.basis])  # (functions, component, direction, element, point)
+    eps = 0.5 * (grad + grad.transpose(0, 2, 1, 3, 4))
+    nb, _, _, nel, nq = eps.shape
+    shear = eps.reshape(nb, 9, nel, nq) * np.sqrt(2.0 * mu * basis.dx)
+    volume = np.einsum("iaaeq->ieq", eps)[:, None] * np.sqrt(lam * basis.dx)
+    factor = np.concatenate([shear, volume], axis=1).transpose(2, 0, 1, 3).reshape(nel, nb, 10 * nq)
+    local = np.matmul(factor, factor.transpose(0, 2, 1))
+    dofs = basis.element_dofs.T
+    rows = np.broadcast_to(dofs[:, :, None], local.shape).ravel()
+    cols = np.broadcast_to(dofs[:, None, :], local.shape).ravel()
+    return sp.csr_matrix((local.ravel(), (rows, cols)), shape=(basis.N, basis.N))
 
 
 def dof_components(basis: Basis) -> np.ndarray:
