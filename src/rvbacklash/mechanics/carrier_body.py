@@ -43,6 +43,7 @@ from rvbacklash.errors import InputError
 from rvbacklash.mechanics import solid
 from rvbacklash.mechanics.carrier_mesh import ON_SURFACE_MM, CarrierGeometry, build_mesh, sectors
 from rvbacklash.mechanics.fe_cache import cached
+from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
 MODEL_VERSION = 1
@@ -180,10 +181,14 @@ def solve_carrier_body(geometry: CarrierGeometry, e_gpa: float, nu: float, lever
         cg_iterations=iterations, wall_time_s=time.perf_counter() - start)
 
 
-def carrier_geometry(problem) -> CarrierGeometry:
+def carrier_geometry(problem: Problem) -> CarrierGeometry:
     """The carrier's dimensions from a design's [structure] table (``has_carrier_fe``) and its
     crank circle; cranks = the first stage's planets."""
     st = problem.design.structure
+    if problem.cycloid.discs != 2:
+        raise InputError("second_stage.discs", problem.cycloid.discs,
+                         "the FE carrier's loads are two discs' forces, symmetric about the cranks' mid-span; "
+                         "allowed: discs = 2")
     if not has_carrier_fe(st):
         raise InputError("structure.carrier_flange_thickness_mm",
                          allowed=f"missing: the FE carrier needs all of {', '.join(CARRIER_FE_FIELDS)}")
@@ -207,7 +212,7 @@ def cached_carrier_body(geometry: CarrierGeometry, e_gpa: float, nu: float, leve
     return CarrierBodyResult(**data)
 
 
-def carrier_body_compliance(problem, lever_factor: float) -> CarrierBodyResult:
+def carrier_body_compliance(problem: Problem, lever_factor: float) -> CarrierBodyResult:
     """The design's FE carrier (its [structure] carrier fields, ``has_carrier_fe``), once per design:
     output compliance [rad/(N m)] with the support bearings' forces of a unit output torque referred
     to the output by ``lever_factor`` k (module docstring; the lead's chain passes the k it uses)."""
