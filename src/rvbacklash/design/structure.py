@@ -43,6 +43,13 @@ motion of 4.5e11 arcmin. A design is refused (field, value, allowed range) outsi
   about 1-2.5 diameters long; rv80e: 2); a disc of a roller or a needle is outside it;
 - *pillars that fit*: their tangential width below the chord between two neighbours on the
   pillar circle (2 R_p sin(pi / n_p)), their radial depth inside the circle (h < 2 R_p);
+- *the FE carrier* (``CARRIER_FE_FIELDS``, all five or none: ``has_carrier_fe``; the body in
+  mechanics/carrier_body.py): the plates hold the pillars (their outer corners inside the outline,
+  their inner faces outside the central hole) and are no thinner than their diameter over
+  ``SLENDERNESS_MAX``; the seats (bores of the support bearings' outer diameter on the crank
+  circle) are larger than the crankshaft's journal and keep ``MIN_WALL_MM`` = 1 mm to the
+  outline, the central hole, each other and the pillars (``check_structure``): thinner walls are
+  not a carrier and are not meshed;
 - against the rest of the design (``check_structure``, called by ``Design``): the crankshaft's
   diameters between half the eccentric's (the crank needle bearing's raceway D_e: a crank whose
   equivalent section is under half the eccentric it carries is not the part the formula
@@ -62,10 +69,16 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rvbacklash.design.elastic import check_profile
 from rvbacklash.errors import InputError
+from rvbacklash.geometry.reducer import centre_distance_mm
 
 DEPTH_RATIO_MIN = 1.0  # a beam at least as long as its section is deep (Cowper 1968)
 SLENDERNESS_MAX = 20.0  # length over diameter or section side: a plausibility limit (real parts: 1-3)
 ROLLER_ASPECT = (0.5, 4.0)  # support-bearing roller length over diameter (Palmgren's law: bearing rollers)
+
+
+CARRIER_FE_FIELDS = ("carrier_flange_thickness_mm", "carrier_end_plate_thickness_mm", "carrier_outer_diameter_mm",
+                     "carrier_bore_diameter_mm", "support_bearing_seat_diameter_mm")
+MIN_WALL_MM = 1.0  # the thinnest wall the FE carrier meshes (between seats, pillars, holes and outline)
 
 
 class _Strict(BaseModel):
@@ -133,6 +146,21 @@ class StructureInputs(_Strict):
                                                           "ductile iron: ~170)")
     carrier_poisson_ratio: float = Field(0.3, ge=0, lt=0.5, description="Poisson's ratio of the carrier [-]")
 
+    # the carrier as one 3-D body by finite elements (mechanics/carrier_body.py): all five or none;
+    # given, they replace the pillars clamped in rigid plates (which stay the closed form)
+    carrier_flange_thickness_mm: float | None = Field(
+        None, gt=0, le=1000, description="carrier (FE): output flange's thickness, from its bolted outer face to the "
+                                         "pillars [mm]")
+    carrier_end_plate_thickness_mm: float | None = Field(
+        None, gt=0, le=1000, description="carrier (FE): end plate's thickness [mm]")
+    carrier_outer_diameter_mm: float | None = Field(
+        None, gt=0, le=10000, description="carrier (FE): outer diameter of the flange and the end plate [mm]")
+    carrier_bore_diameter_mm: float | None = Field(
+        None, ge=0, le=10000, description="carrier (FE): central hole through both plates [mm]; 0: none")
+    support_bearing_seat_diameter_mm: float | None = Field(
+        None, gt=0, le=1000, description="carrier (FE): bore of the support bearings' seats in both plates, on the "
+                                         "crank circle = the bearing's outer diameter [mm]")
+
     disc_translation: Literal["across", "full", "none"] = Field(
         "across", description="each disc's sideways motion on its needle bearings: across (across the eccentric, the "
                               "pins' resultant's torque-carrying part: closed form, no cost), full (also along the "
@@ -197,6 +225,82 @@ def _ratio(field: str, size: float, length_field: str, length: float, what: str,
     raise InputError(field, size, f"{what} = {length / size:.4g} ({length_field} = {length:g}); allowed: {allowed}")
 
 
+def has_carrier_fe(structure: StructureInputs | None) -> bool:
+    """Whether the design's carrier is the FE body (all of CARRIER_FE_FIELDS given) rather than the
+    pillars clamped in rigid plates (mechanics/carrier_body.py, models/compliance.py)."""
+    return structure is not None and all(getattr(structure, name) is not None for name in CARRIER_FE_FIELDS)
+
+
+def _check_carrier_outline(st: StructureInputs) -> None:
+    """The FE carrier's plates against its pillars (module docstring, "Validity"): all five fields or
+    none, the pillars standing on the plates (inside the outline, outside the central hole, walls
+    of MIN_WALL_MM), plates no thinner than their diameter over SLENDERNESS_MAX."""
+    given = [name for name in CARRIER_FE_FIELDS if getattr(st, name) is not None]
+    if not given:
+        return
+    missing = [name for name in CARRIER_FE_FIELDS if getattr(st, name) is None]
+    if missing:
+        raise InputError(f"structure.{missing[0]}",
+                         allowed=f"missing: the FE carrier needs all of {', '.join(CARRIER_FE_FIELDS)} "
+                                 f"({', '.join(given)} given); allowed: all five, or none (pillars clamped in rigid "
+                                 f"plates)")
+    outer = st.carrier_outer_diameter_mm
+    corner = math.hypot(st.pillar_radius_mm + 0.5 * st.pillar_depth_mm, 0.5 * st.pillar_width_mm)
+    if not corner + MIN_WALL_MM <= 0.5 * outer:
+        raise InputError("structure.carrier_outer_diameter_mm", outer,
+                         f"the plates do not hold the pillars (their outer corners reach {corner:.4g} mm from the "
+                         f"axis); allowed: >= {2.0 * (corner + MIN_WALL_MM):.4g} mm (a {MIN_WALL_MM:g} mm wall)")
+    bore, inner = st.carrier_bore_diameter_mm, st.pillar_radius_mm - 0.5 * st.pillar_depth_mm
+    if bore > 0 and not 0.5 * bore + MIN_WALL_MM <= inner:
+        raise InputError("structure.carrier_bore_diameter_mm", bore,
+                         f"the central hole cuts the pillars (their inner faces at {inner:.4g} mm from the axis); "
+                         f"allowed: 0 (none) or <= {2.0 * (inner - MIN_WALL_MM):.4g} mm (a {MIN_WALL_MM:g} mm wall)")
+    for name in ("carrier_flange_thickness_mm", "carrier_end_plate_thickness_mm"):
+        t = getattr(st, name)
+        if not outer <= SLENDERNESS_MAX * t:
+            raise InputError(f"structure.{name}", t,
+                             f"a plate {outer:g} mm across this thin is a membrane, not a carrier plate; allowed: >= "
+                             f"carrier_outer_diameter_mm / {SLENDERNESS_MAX:g} = {outer / SLENDERNESS_MAX:.4g} mm")
+
+
+def _rectangle_distance_mm(x: float, y: float, angle_rad: float, radius_mm: float, depth_mm: float,
+                           width_mm: float) -> float:
+    """Distance from the point (x, y) to a pillar's section (radial depth x tangential width,
+    centred at radius_mm, angle_rad) [mm]; 0 inside."""
+    u = x * math.cos(angle_rad) + y * math.sin(angle_rad) - radius_mm
+    v = -x * math.sin(angle_rad) + y * math.cos(angle_rad)
+    return math.hypot(max(abs(u) - 0.5 * depth_mm, 0.0), max(abs(v) - 0.5 * width_mm, 0.0))
+
+
+def _check_carrier_seats(design, st: StructureInputs) -> None:
+    """The FE carrier's support-bearing seats (bores of support_bearing_seat_diameter_mm on the crank
+    circle, one per crank in each plate; pillars half a crank pitch from the cranks, as
+    mechanics/carrier_body.py builds them) inside the plates with walls of MIN_WALL_MM to the
+    outline, the central hole, each other and the pillars, and larger than the crankshaft's
+    journal (the bearing's bore)."""
+    s1, s3 = design.first_stage, design.crank_stage
+    a0 = (s3.crank_circle_radius_mm if s3.crank_circle_radius_mm is not None
+          else centre_distance_mm(s1.module_mm, s1.centre_gear_teeth, s1.planet_teeth))
+    cranks, seat = s1.planets, st.support_bearing_seat_diameter_mm
+    limits = {"the plates' outline": 2.0 * (0.5 * st.carrier_outer_diameter_mm - MIN_WALL_MM - a0)}
+    if st.carrier_bore_diameter_mm > 0:
+        limits["the central hole"] = 2.0 * (a0 - 0.5 * st.carrier_bore_diameter_mm - MIN_WALL_MM)
+    if cranks > 1:
+        limits["the next seat"] = 2.0 * a0 * math.sin(math.pi / cranks) - MIN_WALL_MM
+    gaps = [_rectangle_distance_mm(a0 * math.cos(2 * math.pi * j / cranks), a0 * math.sin(2 * math.pi * j / cranks),
+                                   2 * math.pi * (i + 0.5) / st.carrier_pillars, st.pillar_radius_mm,
+                                   st.pillar_depth_mm, st.pillar_width_mm)
+            for j in range(cranks) for i in range(st.carrier_pillars)]
+    limits["the pillars"] = 2.0 * (min(gaps) - MIN_WALL_MM)
+    binding = min(limits, key=limits.get)
+    journal = st.crankshaft_diameter_mm
+    if not journal < seat <= limits[binding]:
+        raise InputError("structure.support_bearing_seat_diameter_mm", seat,
+                         f"the seats (bores on the {a0:g} mm crank circle) must hold a bearing on the "
+                         f"{journal:g} mm journal and keep a {MIN_WALL_MM:g} mm wall to {binding}; allowed: > "
+                         f"crankshaft_diameter_mm = {journal:g} and <= {limits[binding]:.4g} mm")
+
+
 def check_structure(design) -> None:
     """The [structure] table of ``design`` (a ``Design``, whose validator calls this: design/schema.py
     imports this module, not the other way round) against the rest of the design (module
@@ -229,3 +333,6 @@ def check_structure(design) -> None:
         raise InputError("structure.pillar_radius_mm", st.pillar_radius_mm,
                          f"the pillars pass through the discs; allowed: pillar_radius_mm + pillar_depth_mm / 2 < "
                          f"the discs' root radius r_p - r_rp - a = {root:.4g} mm")
+    _check_carrier_outline(st)  # after the pillars' own limits: those name the part to change first
+    if has_carrier_fe(st):
+        _check_carrier_seats(design, st)
