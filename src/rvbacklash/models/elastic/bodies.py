@@ -15,8 +15,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from rvbacklash.mechanics.carrier_body import carrier_body_compliance, has_carrier_fe
-from rvbacklash.mechanics.disc_body import disc_body_compliance, has_disc_fe
+from rvbacklash.design.structure import has_carrier_fe
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.elastic.chain import ElasticModel, RISE, closed_form_model, needle_secant_stiffness_n_per_um
 from rvbacklash.models.elastic.unit import PreparedUnit, unit_from_realization
@@ -34,7 +33,8 @@ def elastic_model(problem: Problem) -> ElasticModel:
     c = model.chain
     changes: dict[str, float] = {}
     disc = carrier = None
-    if has_disc_fe(st):
+    if getattr(st, "disc_pillar_hole_diameter_mm", None) is not None:  # the discs' FE asked for (mechanics.disc_body.has_disc_fe)
+        from rvbacklash.mechanics.disc_body import disc_body_compliance  # scikit-fem and gmsh: only when used
         torque = c.rigidity_high * c.rated_torque_nm
         s2 = problem.design.second_stage
         designed = Realization.nominal(problem.cycloid, s2.equidistance_modification_um,
@@ -47,6 +47,7 @@ def elastic_model(problem: Problem) -> ElasticModel:
         changes["disc_body_compliance_rad_per_nm"] = cm.disc_body_output_compliance_rad_per_nm(
             disc.compliance_rad_per_nm, c.lever_factor, problem.cycloid.discs)
     if model.derived and has_carrier_fe(st):  # a stated structure stiffness wins over the derivation
+        from rvbacklash.mechanics.carrier_body import carrier_body_compliance
         carrier = carrier_body_compliance(problem, c.lever_factor)
         changes["carrier_compliance_rad_per_nm"] = carrier.output_compliance_rad_per_nm
     if not changes:
