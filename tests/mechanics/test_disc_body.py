@@ -79,7 +79,7 @@ def test_the_plane_stress_code_twists_an_annulus_as_lame():
     exact = torque / (4 * math.pi * g * t) * (1 / r1 ** 2 - 1 / r2 ** 2)
     fe = _annulus_twist(r1, r2, t, e, nu, torque, 1.5)
     assert fe == pytest.approx(exact, rel=0.01)
-    assert abs(fe / exact - 1) < 2e-3  # measured: 4e-4 (the polygons' area)
+    assert abs(fe / exact - 1) < 2e-3  # measured: 9.6e-4, second order in the segment (the polygons' area)
 
 
 def test_plane_stress_lame_parameter():
@@ -94,8 +94,8 @@ def test_the_rv80e_disc_converges_on_refinement(rv80e_problem, forces):
     fine = disc_body_compliance(rv80e_problem, 0.0, forces, BEARING_N_PER_UM, disc=0, mesh=MeshSize().refined(1.5))
     assert fine.elements > 1.5 * base.elements
     assert abs(fine.compliance_rad_per_nm / base.compliance_rad_per_nm - 1) < 0.01  # measured 0.3 %
-    # the figure the notes report (docs/fe-disc-notes.md): 2.83e-7 rad/(N m) for disc 0 at chi = 0
-    assert base.compliance_rad_per_nm == pytest.approx(2.834e-7, rel=0.01)
+    # the figure the notes report (docs/fe-disc-notes.md): 3.24e-7 rad/(N m) for disc 0 at chi = 0
+    assert base.compliance_rad_per_nm == pytest.approx(3.242e-7, rel=0.01)
 
 
 def test_invariants_of_the_rv80e_disc(rv80e_problem, forces):
@@ -184,12 +184,12 @@ HOLE = "disc_pillar_hole_diameter_mm = 34.0"
     (((HOLE, "disc_pillar_hole_diameter_mm = 47.0"),), "structure.disc_pillar_hole_diameter_mm", "overlap"),
     (((HOLE, "disc_pillar_hole_diameter_mm = 50.0\ndisc_pillar_hole_radius_mm = 45.0"),),
      "structure.disc_pillar_hole_diameter_mm", "cuts into the profile's band"),
-    (((HOLE, HOLE + "\ndisc_centre_hole_diameter_mm = 48.0"),), "structure.disc_centre_hole_diameter_mm",
-     "overlap"),
+    ((("disc_centre_hole_diameter_mm = 37.0", "disc_centre_hole_diameter_mm = 48.0"),),
+     "structure.disc_centre_hole_diameter_mm", "overlap"),
     ((("bearing_bore_mm = 30.0", "bearing_bore_mm = 44.0"),), "crank_stage.bearing_bore_mm",
      "crank bore"),
-    (((HOLE, "disc_pillar_hole_radius_mm = 42.0"),), "structure.disc_pillar_hole_radius_mm",
-     "allowed only with disc_pillar_hole_diameter_mm"),
+    (((HOLE, "disc_pillar_hole_radius_mm = 42.0"), ("disc_centre_hole_diameter_mm = 37.0", "")),
+     "structure.disc_pillar_hole_radius_mm", "allowed only with disc_pillar_hole_diameter_mm"),
 ])
 def test_bad_holes_are_refused_naming_the_field(edits, field, fragment):
     with pytest.raises(InputError) as e:

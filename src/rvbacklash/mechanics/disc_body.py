@@ -22,7 +22,7 @@ The model:
   reach the reading points one pin radius deeper, St Venant), applied as the consistent load of
   ``PATCH_SAMPLES`` equal point forces spread along it;
 - supports: each crank bore on radial springs over the half of its boundary pressed against the
-  rollers (a Winkler foundation, ``plane_stress.radial_springs``), total stiffness the bearing's
+  rollers (a Winkler foundation, ``plane_stress.RadialSprings``), total stiffness the bearing's
   secant K in every direction; the half faces the bore's reaction, found by iteration (the
   cranks rigid);
 - reading: the disc's rotation as the pins see it, theta = sum_j F_j . u(q_j) / T_d at q_j =
@@ -55,6 +55,7 @@ from rvbacklash.problem import Problem
 
 MODEL_VERSION = 1  # raise when the model computes something else (older cache files are then never read)
 PATCH_HALF_WIDTH_PIN_RADII = 0.125  # a pin's load spread over +-r_rp / 8 of the profile (module docstring)
+READING_DEPTH_PIN_RADII = 1.0  # the rotation is read this many pin radii below each contact (module docstring)
 PATCH_SAMPLES = 12  # point forces per patch (their consistent load: a uniform traction within ~1e-3)
 ZONE_PASSES = 8  # the bores' load zones follow their reactions (until no spring changes) in at most this many solves
 CG_RTOL = 1e-10  # the zones' re-solves: residual / load (far below the mesh's error)
@@ -149,7 +150,7 @@ def pin_load(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray) -
     p = curve.point(t) - g.rrp_mm * n
     f = -force[j, None] * n
     torque = float(np.sum(p[:, 0] * f[:, 1] - p[:, 1] * f[:, 0]))
-    return PinLoad(j, p, n, f, p - g.rrp_mm * n, t, torque)
+    return PinLoad(j, p, n, f, p - READING_DEPTH_PIN_RADII * g.rrp_mm * n, t, torque)
 
 
 def ideal_pin_forces_n(problem: Problem, chi_rad: float, disc_torque_nm: float) -> np.ndarray:
@@ -274,7 +275,8 @@ def _one_disc(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, 
               "holes": [list(h) for h in d.holes], "e_mpa": d.youngs_modulus_mpa, "nu": d.poisson_ratio,
               "thickness_mm": d.thickness_mm, "chi_rad": chi_rad, "disc": disc,
               "forces_n": [float(x) for x in force_n], "bearing_n_per_um": bearing_n_per_um,
-              "mesh": asdict(mesh), "patch": [PATCH_HALF_WIDTH_PIN_RADII, PATCH_SAMPLES], "zones": ZONE_PASSES}
+              "mesh": asdict(mesh), "patch": [PATCH_HALF_WIDTH_PIN_RADII, PATCH_SAMPLES],
+              "reading_depth": READING_DEPTH_PIN_RADII, "zones": ZONE_PASSES}
     result = cached("disc_body", MODEL_VERSION, inputs,
                     lambda: _solve(problem, chi_rad, disc, force_n, bearing_n_per_um, d, mesh).to_dict())
     return DiscBodyResult.from_dict(result)
@@ -314,83 +316,116 @@ def _mesh_disc(problem: Problem, holes: tuple[Hole, ...], mesh: MeshSize):
     return m, profile, arc
 
 
-def _solve(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, bearing_n_per_um: float,
-           d: DiscInputs, mesh: MeshSize) -> DiscBodyResult:
-    start = time.perf_counter()
+class _Disc(NamedTuple):
+    """One disc's assembled model: its mesh's rigid modes G, elastic stiffness, the pins' load
+    vector and their reading, the crank bores and their springs."""
+
+    modes: np.ndarray
+    stiffness: object  # sparse [N/mm]
+    load: np.ndarray  # f [N]
+    reading: object  # point operator at the reading points q_j
+    forces_n: np.ndarray  # F_j (pins, 2)
+    torque_nmm: float  # the load's moment about the centre
+    bores: list
+    supports: list  # plane_stress.RadialSprings, one per bore
+
+    def springs(self, zones):
+        return [s.stiffness(z) for s, z in zip(self.supports, zones)]
+
+    def reactions(self, mats, u) -> np.ndarray:
+        """Each bore's reaction on the disc: (F_x, F_y, moment about the centre) [N, N mm]."""
+        return np.array([self.modes.T @ -(s @ u) for s in mats])
+
+    def rotation(self, u) -> float:
+        """theta = sum_j F_j . u(q_j) / T_d [rad] (module docstring)."""
+        return float(np.sum(self.forces_n * ps.point_values(self.reading, u))) / self.torque_nmm
+
+
+def _assemble(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, bearing_n_per_um: float,
+              d: DiscInputs, mesh: MeshSize) -> tuple[_Disc, object]:
     g = problem.cycloid
-    load = pin_load(problem, chi_rad, disc, force_n)
+    pins = pin_load(problem, chi_rad, disc, force_n)
     m, profile, arc = _mesh_disc(problem, d.holes, mesh)
     basis = ps.scalar_basis(m)
-    stiffness = ps.stiffness_matrix(basis, d.youngs_modulus_mpa, d.poisson_ratio, d.thickness_mm)
     modes = ps.rigid_modes(basis)
-
-    patches = _patch_points(profile, arc, load.curve_t, load.contact_mm, g.zc, PATCH_HALF_WIDTH_PIN_RADII * g.rrp_mm, load.normal)
-    applied = ps.point_operator(basis, patches.reshape(-1, 2))
-    f = ps.point_loads(applied, np.repeat(load.force_n / PATCH_SAMPLES, PATCH_SAMPLES, axis=0))
-    reading = ps.point_operator(basis, load.reading_mm)
-    torque_nmm = float((modes.T @ f)[2])  # the patches' moment: T_d to ~1e-4 (the polyline), in equilibrium exactly
-
+    patches = _patch_points(profile, arc, pins.curve_t, pins.contact_mm, g.zc, PATCH_HALF_WIDTH_PIN_RADII * g.rrp_mm,
+                            pins.normal)
+    f = ps.point_loads(ps.point_operator(basis, patches.reshape(-1, 2)),
+                       np.repeat(pins.force_n / PATCH_SAMPLES, PATCH_SAMPLES, axis=0))
     bores = [h for h in d.holes if h.kind == "crank_bore"]
     k_line = ps.winkler_line_stiffness(bearing_n_per_um * 1e3, bores[0].radius_mm)
-    supports = [ps.RadialSprings(m, basis, facets_on_circle(m, h.x_mm, h.y_mm, h.radius_mm, 0.05 * mesh.hole_segment_mm),
-                                 (h.x_mm, h.y_mm), k_line) for h in bores]
+    supports = [ps.RadialSprings(m, basis, facets_on_circle(m, h.x_mm, h.y_mm, h.radius_mm,
+                                                            0.05 * mesh.hole_segment_mm), (h.x_mm, h.y_mm), k_line)
+                for h in bores]
+    model = _Disc(modes, ps.stiffness_matrix(basis, d.youngs_modulus_mpa, d.poisson_ratio, d.thickness_mm), f,
+                  ps.point_operator(basis, pins.reading_mm), pins.force_n,
+                  float((modes.T @ f)[2]),  # the patches' moment: T_d to ~1e-4 (the polyline), in equilibrium exactly
+                  bores, supports)
+    return model, m
 
-    def springs(zones):
-        return [s.stiffness(z) for s, z in zip(supports, zones)]
 
-    def reactions(mats, u):
-        """Each bore's reaction on the disc: (F_x, F_y, moment about the centre) [N, N mm]."""
-        return np.array([modes.T @ -(s @ u) for s in mats])
-
-    def theta(u):
-        return float(np.sum(load.force_n * ps.point_values(reading, u))) / torque_nmm
-
-    # the rigid disc: a first guess of the zones (each bore a third of the resultant and of the torque)
-    resultant = load.force_n.sum(axis=0)
-    zones = [-resultant / 3 - torque_nmm / (3 * (h.x_mm ** 2 + h.y_mm ** 2)) * np.array([-h.y_mm, h.x_mm])
-             for h in bores]
-    rigid, passes_rigid, cond = None, 0, math.nan
-    for passes_rigid in range(1, ZONE_PASSES + 1):
-        mats = springs(zones)
-        k3 = modes.T @ (sum(mats) @ modes)
-        scale = np.array([1.0, 1.0, 1.0 / math.hypot(bores[0].x_mm, bores[0].y_mm)])
+def _rigid(model: _Disc, bearing_n_per_um: float):
+    """The rigid disc on the springs: (displacement, zones, passes, the condition number of its 3 x 3
+    spring matrix, rotation scaled by the crank circle). First zones: each bore a third of the
+    resultant and of the torque."""
+    resultant = model.forces_n.sum(axis=0)
+    zones = [-resultant / 3 - model.torque_nmm / (3 * (h.x_mm ** 2 + h.y_mm ** 2)) * np.array([-h.y_mm, h.x_mm])
+             for h in model.bores]
+    scale = np.array([1.0, 1.0, 1.0 / math.hypot(model.bores[0].x_mm, model.bores[0].y_mm)])
+    for passes in range(1, ZONE_PASSES + 1):
+        mats = model.springs(zones)
+        k3 = model.modes.T @ (sum(mats) @ model.modes)
         cond = float(np.linalg.cond(k3 * scale[:, None] * scale[None, :]))
         if not cond < SPRING_CONDITION_MAX:
             raise InputError("bearing_stiffness_n_per_um", bearing_n_per_um,
                              f"the disc is not held by its bearings (condition number {cond:.3g}); allowed: > 0 with "
                              f"at least two crank bores")
-        rigid = modes @ np.linalg.solve(k3, modes.T @ f)
-        zones, settled = _follow(supports, zones, reactions(mats, rigid))
+        u = model.modes @ np.linalg.solve(k3, model.modes.T @ model.load)
+        zones, settled = _follow(model.supports, zones, model.reactions(mats, u))
         if settled:
             break
-    rigid_reactions = reactions(springs(zones), rigid)
+    return u, zones, passes, cond
 
-    flexible, passes, first = None, 0, None
+
+def _flexible(model: _Disc, zones):
+    """The elastic disc on the springs, from the rigid disc's zones: (displacement, zones, passes).
+    Factored once; the zones' small changes are solved by CG preconditioned with that factor."""
+    first = u = None
     for passes in range(1, ZONE_PASSES + 1):
-        mats = springs(zones)
-        matrix = (stiffness + sum(mats)).tocsc()
-        if first is None:  # factor once; the zones' small changes are solved by CG preconditioned with it
-            first = splu(matrix)
-            flexible = first.solve(f)
+        mats = model.springs(zones)
+        matrix = (model.stiffness + sum(mats)).tocsc()
+        if first is None:
+            first = _factor(matrix)
+            u = first.solve(model.load)
         else:
-            flexible = _refine(matrix, f, first, flexible)
-        zones, settled = _follow(supports, zones, reactions(mats, flexible))
+            u = _refine(matrix, model.load, first, u)
+        zones, settled = _follow(model.supports, zones, model.reactions(mats, u))
         if settled:
             break
-    flexible_reactions = reactions(springs(zones), flexible)
+    return u, zones, passes
 
-    theta_f, theta_r = theta(flexible), theta(rigid)
-    torque_nm = torque_nmm * 1e-3
+
+def _solve(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, bearing_n_per_um: float,
+           d: DiscInputs, mesh: MeshSize) -> DiscBodyResult:
+    start = time.perf_counter()
+    model, m = _assemble(problem, chi_rad, disc, force_n, bearing_n_per_um, d, mesh)
+    rigid, zones, passes_rigid, cond = _rigid(model, bearing_n_per_um)
+    rigid_reactions = model.reactions(model.springs(zones), rigid)
+    flexible, zones, passes = _flexible(model, zones)
+    flexible_reactions = model.reactions(model.springs(zones), flexible)
+    theta_f, theta_r = model.rotation(flexible), model.rotation(rigid)
+    torque_nm = model.torque_nmm * 1e-3
+    compliance = (theta_f - theta_r) / torque_nm
     return DiscBodyResult(
-        compliance_rad_per_nm=(theta_f - theta_r) / torque_nm, disc_torque_nm=torque_nm,
+        compliance_rad_per_nm=compliance, disc_torque_nm=torque_nm,
         flexible_rotation_rad=theta_f, rigid_rotation_rad=theta_r,
-        crank_torque_shares=_shares(flexible_reactions, bores, torque_nmm),
-        rigid_crank_torque_shares=_shares(rigid_reactions, bores, torque_nmm),
+        crank_torque_shares=_shares(flexible_reactions, model.bores, model.torque_nmm),
+        rigid_crank_torque_shares=_shares(rigid_reactions, model.bores, model.torque_nmm),
         crank_reactions_n=tuple(float(x) for x in np.hypot(flexible_reactions[:, 0], flexible_reactions[:, 1])),
         rigid_crank_reactions_n=tuple(float(x) for x in np.hypot(rigid_reactions[:, 0], rigid_reactions[:, 1])),
-        disc_compliances_rad_per_nm=((theta_f - theta_r) / torque_nm,), discs=(disc,), chi_rad=float(chi_rad),
-        loaded_pins=len(load.pins), nodes=int(basis.N),
-        elements=int(m.t.shape[1]), dofs=int(2 * basis.N), zone_passes=passes_rigid + passes,
+        disc_compliances_rad_per_nm=(compliance,), discs=(disc,), chi_rad=float(chi_rad),
+        loaded_pins=int(np.count_nonzero(np.asarray(force_n) > 0)), nodes=int(m.p.shape[1] + m.facets.shape[1]),
+        elements=int(m.t.shape[1]), dofs=int(model.stiffness.shape[0]), zone_passes=passes_rigid + passes,
         spring_condition_number=cond, wall_time_s=time.perf_counter() - start)
 
 
@@ -400,8 +435,14 @@ def _refine(matrix, f, factor, start):
     precondition = LinearOperator(matrix.shape, matvec=factor.solve, dtype=float)
     u, info = cg(matrix, f, x0=start, M=precondition, rtol=CG_RTOL, maxiter=200)
     if info != 0:  # not converged (never seen): solve directly
-        u = splu(matrix).solve(f)
+        u = _factor(matrix).solve(f)
     return u
+
+
+def _factor(matrix):
+    """Sparse LU of a symmetric matrix: minimum-degree ordering of A^T + A and symmetric pivoting
+    (half the fill and time of SuperLU's default COLAMD on the disc)."""
+    return splu(matrix, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
 
 
 def _follow(supports, zones, reaction):
