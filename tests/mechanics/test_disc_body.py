@@ -134,6 +134,11 @@ def test_both_discs_in_parallel(rv80e_problem, forces):
     assert both.compliance_rad_per_nm == pytest.approx(
         2 / sum(1 / e.compliance_rad_per_nm for e in each), rel=1e-12)
     assert both.disc_compliances_rad_per_nm == tuple(e.compliance_rad_per_nm for e in each)
+    # a disc without load carries nothing: the stage's compliance is the loaded disc's, k^2 C_0
+    alone = forces.copy()
+    alone[1] = 0.0
+    one = disc_body_compliance(rv80e_problem, 0.0, alone, BEARING_N_PER_UM, mesh=COARSE)
+    assert one.discs == (0,) and one.compliance_rad_per_nm / 2 == pytest.approx(each[0].compliance_rad_per_nm)
 
 
 def test_the_result_is_cached_in_memory_and_on_disk(rv80e_problem, forces):

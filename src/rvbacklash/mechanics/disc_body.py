@@ -99,7 +99,7 @@ class DiscBodyResult:
     each crank bore's force magnitude [N]; sizes of one disc's mesh; wall time of all."""
 
     compliance_rad_per_nm: float  # C_disc = (theta_flexible - theta_rigid) / T_d
-    disc_torque_nm: float  # T_d
+    disc_torque_nm: float  # T_d: the pins' moment about the disc centre [N m] (signed: < 0 clockwise)
     flexible_rotation_rad: float
     rigid_rotation_rad: float
     crank_torque_shares: tuple[float, ...]
@@ -245,10 +245,11 @@ def disc_body_compliance(problem: Problem, chi_rad: float, pin_forces_n: np.ndar
     pins) and held by needle bearings of secant stiffness ``bearing_stiffness_n_per_um`` [N/um] each.
 
     ``disc``: None (default) computes every loaded disc and combines them as the chain has them, in
-    parallel: C_disc = n / sum_d (1 / C_d), so that the chain's k^2 C_disc / n is exactly the discs'
-    parallel compliance k^2 / sum_d (1 / C_d) (rv80e: the two discs differ by up to ~10 % at a crank
-    angle, each seeing the pins' zone at another place against its bores); the tuples list the discs
-    one after the other. An int computes that disc alone. Each disc is computed once per input
+    parallel: C_disc = n / sum_d (1 / C_d) (n the design's discs, the sum over the loaded ones), so
+    that the chain's k^2 C_disc / n is exactly the discs' parallel compliance k^2 / sum_d (1 / C_d)
+    (rv80e: the two discs differ by up to ~15 % at a crank angle, each seeing the pins' zone at
+    another place against its bores); the tuples list the discs one after the other. An int
+    computes that disc alone. Each disc is computed once per input
     (memory and disk cache)."""
     forces = np.asarray(pin_forces_n, float)
     g = problem.cycloid
@@ -263,7 +264,7 @@ def disc_body_compliance(problem: Problem, chi_rad: float, pin_forces_n: np.ndar
         raise InputError("pin_forces_n", 0.0, "allowed: at least one loaded pin on the disc(s) computed")
     results = [_one_disc(problem, float(chi_rad), d, forces[d], float(bearing_stiffness_n_per_um), mesh)
                for d in chosen]
-    return results[0] if len(results) == 1 else _in_parallel(results)
+    return results[0] if disc is not None else _in_parallel(results, g.discs)
 
 
 def _one_disc(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, bearing_n_per_um: float,
@@ -282,11 +283,11 @@ def _one_disc(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, 
     return DiscBodyResult.from_dict(result)
 
 
-def _in_parallel(results: list[DiscBodyResult]) -> DiscBodyResult:
-    """Discs tied by the cranks (one rotation): compliances in parallel, n / sum 1 / C_d (per disc)."""
-    n = len(results)
+def _in_parallel(results: list[DiscBodyResult], discs: int) -> DiscBodyResult:
+    """Discs tied by the cranks (one rotation): compliances in parallel, per disc n / sum_d 1 / C_d over
+    the loaded discs (a disc without load carries nothing: k^2 C_disc / n is still the stage's)."""
     return DiscBodyResult(
-        compliance_rad_per_nm=n / sum(1.0 / r.compliance_rad_per_nm for r in results),
+        compliance_rad_per_nm=discs / sum(1.0 / r.compliance_rad_per_nm for r in results),
         disc_torque_nm=float(np.mean([r.disc_torque_nm for r in results])),
         flexible_rotation_rad=float(np.mean([r.flexible_rotation_rad for r in results])),
         rigid_rotation_rad=float(np.mean([r.rigid_rotation_rad for r in results])),
