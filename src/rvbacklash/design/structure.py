@@ -58,6 +58,14 @@ motion of 4.5e11 arcmin. A design is refused (field, value, allowed range) outsi
   least a disc face width apart, and the supports' load centres outside the disc stack (span >=
   disc spacing + face width); the pillars inside the discs (R_p + h/2 below the disc's root
   radius r_p - r_rp - a).
+- the discs' holes, when ``disc_pillar_hole_diameter_mm`` is given (the disc body's finite elements
+  run then, mechanics/disc_body.py; layout in geometry/disc_holes.py): each hole and crank bore
+  (the needle bearing's outer raceway, D_e + 2 D_w) ends at least ``DISC_WALL_PIN_RADII`` = 1.5 pin
+  radii inside the profile's root radius r_p - r_rp - a (the disc's rotation is read one pin radius
+  below each contact: that point must lie in the body, with material between it and the hole),
+  holes at least ``DISC_LIGAMENT_MIN_MM`` = 1 mm apart (a thinner web is no part, and no mesh), and
+  each pillar hole wide enough for its pillar's section swept by the eccentric orbit
+  (sqrt(w^2 + h^2) + 2 a, plus twice any offset between the hole's and the pillar's circles).
 """
 
 from __future__ import annotations
@@ -70,10 +78,13 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from rvbacklash.design.elastic import check_profile
 from rvbacklash.errors import InputError
 from rvbacklash.geometry.reducer import centre_distance_mm
+from rvbacklash.geometry.disc_holes import crank_bore_diameter_mm, disc_holes, pillar_hole_clearance_diameter_mm
 
 DEPTH_RATIO_MIN = 1.0  # a beam at least as long as its section is deep (Cowper 1968)
 SLENDERNESS_MAX = 20.0  # length over diameter or section side: a plausibility limit (real parts: 1-3)
 ROLLER_ASPECT = (0.5, 4.0)  # support-bearing roller length over diameter (Palmgren's law: bearing rollers)
+DISC_WALL_PIN_RADII = 1.5  # a disc hole ends this many pin radii inside the profile's root (module docstring)
+DISC_LIGAMENT_MIN_MM = 1.0  # the thinnest web between two holes of a disc [mm]
 
 
 CARRIER_FE_FIELDS = ("carrier_flange_thickness_mm", "carrier_end_plate_thickness_mm", "carrier_outer_diameter_mm",
@@ -160,6 +171,16 @@ class StructureInputs(_Strict):
     support_bearing_seat_diameter_mm: float | None = Field(
         None, gt=0, le=1000, description="carrier (FE): bore of the support bearings' seats in both plates, on the "
                                          "crank circle = the bearing's outer diameter [mm]")
+    disc_pillar_hole_diameter_mm: float | None = Field(
+        None, gt=0, le=5000, description="diameter of the discs' holes the carrier pillars pass through [mm]; given: "
+                                         "the disc bodies are computed by finite elements (mechanics/disc_body.py); "
+                                         "at least sqrt(w^2 + h^2) + 2 x eccentricity of the pillar section")
+    disc_pillar_hole_radius_mm: float | None = Field(
+        None, gt=0, le=5000, description="radius of the circle of the discs' pillar holes' centres [mm]; default "
+                                         "pillar_radius_mm (holes at the pillars' angles, between the cranks)")
+    disc_centre_hole_diameter_mm: float | None = Field(
+        None, gt=0, le=5000, description="diameter of a hole in the discs' centre (the input shaft's passage) [mm]; "
+                                         "default: none (a solid centre)")
 
     disc_translation: Literal["across", "full", "none"] = Field(
         "across", description="each disc's sideways motion on its needle bearings: across (across the eccentric, the "
@@ -199,6 +220,11 @@ class StructureInputs(_Strict):
                              f"{self.support_bearing_clearance_um:g}); allowed: 0 when a clearance is given")
         check_profile("support_bearing_roller", self.support_bearing_roller_profile,
                       self.support_bearing_roller_crown_drop_um, self.support_bearing_roller_log_scale_um)
+        if self.disc_pillar_hole_diameter_mm is None:
+            for name in ("disc_pillar_hole_radius_mm", "disc_centre_hole_diameter_mm"):
+                if getattr(self, name) is not None:
+                    raise InputError(name, getattr(self, name), "allowed only with disc_pillar_hole_diameter_mm (the "
+                                                                "disc bodies' finite elements read the holes together)")
         lo, hi = ROLLER_ASPECT
         dw, lw = self.support_bearing_roller_diameter_mm, self.support_bearing_roller_length_mm
         if not lo * dw <= lw <= hi * dw:
@@ -336,3 +362,63 @@ def check_structure(design) -> None:
     _check_carrier_outline(st)  # after the pillars' own limits: those name the part to change first
     if has_carrier_fe(st):
         _check_carrier_seats(design, st)
+    check_disc_holes(design)
+
+
+def check_disc_holes(design) -> None:
+    """The discs' holes (module docstring, "Validity", the last item) when
+    ``structure.disc_pillar_hole_diameter_mm`` is given; an InputError names the hole's field."""
+    st, s2, e = design.structure, design.second_stage, design.elastic
+    if st is None or st.disc_pillar_hole_diameter_mm is None:
+        return
+    if e is None:
+        raise InputError("elastic", None, "allowed: an [elastic] table (disc face width, materials, the crank needle "
+                                          "bearings) with structure.disc_pillar_hole_diameter_mm: the disc bodies' "
+                                          "finite elements read it")
+    bore_field = ("elastic.crank_bearing_raceway_diameter_mm" if e.crank_bearing_raceway_diameter_mm is not None
+                  else "crank_stage.bearing_bore_mm")
+    raceway = e.crank_bearing_raceway_diameter_mm or design.crank_stage.bearing_bore_mm
+    if raceway is None:
+        raise InputError("elastic.crank_bearing_raceway_diameter_mm", None,
+                         "required with structure.disc_pillar_hole_diameter_mm (the crank bores); allowed: diameter [mm]")
+    a0 = design.crank_stage.crank_circle_radius_mm
+    if a0 is None:  # as problem.derive_geometry: the first stage's centre distance
+        s1 = design.first_stage
+        a0 = centre_distance_mm(s1.module_mm, s1.centre_gear_teeth, s1.planet_teeth)
+    hole_radius = st.disc_pillar_hole_radius_mm or st.pillar_radius_mm
+    offset = abs(hole_radius - st.pillar_radius_mm)
+    needed = pillar_hole_clearance_diameter_mm(st.pillar_width_mm, st.pillar_depth_mm, s2.eccentricity_mm) + 2 * offset
+    if not st.disc_pillar_hole_diameter_mm > needed:
+        raise InputError("structure.disc_pillar_hole_diameter_mm", st.disc_pillar_hole_diameter_mm,
+                         f"the pillar ({st.pillar_width_mm:g} x {st.pillar_depth_mm:g} mm) does not clear the hole as "
+                         f"the disc orbits it by the eccentricity {s2.eccentricity_mm:g} mm; allowed: > sqrt(w^2 + "
+                         f"h^2) + 2 a{' + 2 |hole radius - pillar radius|' if offset else ''} = {needed:.4g} mm")
+    bore = crank_bore_diameter_mm(raceway, e.crank_bearing_roller_diameter_mm)
+    holes = disc_holes(design.first_stage.planets, a0, bore, bore_field, st.carrier_pillars, hole_radius,
+                       st.disc_pillar_hole_diameter_mm, st.disc_centre_hole_diameter_mm)
+    root = s2.pin_circle_radius_mm - s2.pin_radius_mm - s2.eccentricity_mm
+    edge_max = root - DISC_WALL_PIN_RADII * s2.pin_radius_mm
+    for h in holes:
+        edge = math.hypot(h.x_mm, h.y_mm) + h.radius_mm
+        if edge > edge_max:
+            what = (f"crank bore (raceway + 2 needle diameters = {2 * h.radius_mm:.4g} mm on the crank circle "
+                    f"{a0:g} mm)" if h.kind == "crank_bore" else f"{h.kind.replace('_', ' ')}")
+            raise InputError(h.field, _field_value(design, h.field),
+                             f"the {what} cuts into the profile's band: its outer edge at {edge:.4g} mm from the "
+                             f"disc centre; allowed: <= root radius r_p - r_rp - a - {DISC_WALL_PIN_RADII:g} r_rp = "
+                             f"{edge_max:.4g} mm")
+    for i, h in enumerate(holes):
+        for g in holes[i + 1:]:
+            web = math.hypot(h.x_mm - g.x_mm, h.y_mm - g.y_mm) - h.radius_mm - g.radius_mm
+            if web < DISC_LIGAMENT_MIN_MM:
+                blame = g if g.kind != "crank_bore" else h  # the hole that is not a bearing's (sized by its bearing)
+                raise InputError(blame.field, _field_value(design, blame.field),
+                                 f"the disc's {h.kind.replace('_', ' ')} and {g.kind.replace('_', ' ')} "
+                                 f"{'overlap' if web < 0 else 'leave too thin a web'} ({web:.3g} mm); allowed: webs "
+                                 f">= {DISC_LIGAMENT_MIN_MM:g} mm between the holes")
+
+
+def _field_value(design, path: str):
+    """The value of a design field by its path (``structure.disc_pillar_hole_diameter_mm``)."""
+    table, name = path.split(".")
+    return getattr(getattr(design, table), name)

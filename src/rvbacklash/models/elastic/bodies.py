@@ -33,7 +33,7 @@ def elastic_model(problem: Problem) -> ElasticModel:
     c = model.chain
     changes: dict[str, float] = {}
     disc = carrier = None
-    if getattr(st, "disc_pillar_hole_diameter_mm", None) is not None:  # the discs' FE asked for (mechanics.disc_body.has_disc_fe)
+    if st.disc_pillar_hole_diameter_mm is not None:  # the discs' FE asked for (mechanics.disc_body.has_disc_fe)
         from rvbacklash.mechanics.disc_body import disc_body_compliance  # scikit-fem and gmsh: only when used
         torque = c.rigidity_high * c.rated_torque_nm
         s2 = problem.design.second_stage
