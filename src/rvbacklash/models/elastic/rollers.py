@@ -26,7 +26,7 @@ from rvbacklash.models import compliance as cm
 
 ROLLER_SLICES = 30  # slices per roller: ISO/TS 16281's worked examples; rv80e's laws change < 0.1 % at 60 (tests)
 FIT_POINTS = 80  # loads (0, Q_max] at which the needle law's fit is made and its error read
-FIT_VERSION = 1  # of fit_roller_law's method: its cached results (mechanics.fe_cache) are keyed by it
+FIT_VERSION = 2  # of fit_roller_law's method: its cached results (mechanics.fe_cache) are keyed by it
 PROFILES = ("straight", "crowned", "logarithmic")
 
 
@@ -61,7 +61,9 @@ def sliced_roller(profile: str, length_mm: float, diameter_mm: float, tapered: b
         if log_scale_um is not None:
             scale = log_scale_um
         drop = np.array([cm.logarithmic_profile_drop_um(v, length_mm, scale, relief) for v in x])
-    return SlicedRoller(x, drop, float(tilt_rad_per_n))
+    # measured from the slice that touches first: the profile's crown (drop 0 at the middle) lies between slice
+    # centres, and a drop left at the innermost slices read as a dead band of a line-to-line bearing
+    return SlicedRoller(x, drop - drop.min(), float(tilt_rad_per_n))
 
 
 class RollerLawFit(NamedTuple):
