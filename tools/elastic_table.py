@@ -3,7 +3,7 @@
     .venv/bin/python tools/elastic_table.py [--samples 1e5] [--seed 1] [--share-units 5000]
 
 rv80e, the elastic model under both readings of the per-element errors: the distributions of
-lost motion, backlash and rigidity with the specs lost motion <= 1 arcmin and rigidity >= 450
+lost motion, backlash and rigidity with the specs lost motion <= 1 arcmin and rigidity >= 300
 N m/arcmin, the joint yield, the share of the mean lost motion of each element of the chain and
 each element's mean compliance share.
 """
@@ -19,7 +19,7 @@ import rvbacklash as rb
 from rvbacklash.models import elastic as el
 from rvbacklash.sampling.elastic_source import sample_units
 
-SPECS = {"lost_motion": 1.0, "rigidity": 450.0}  # a rigidity spec near the derived chain's nominal, to show its yield
+SPECS = {"lost_motion": 1.0, "rigidity": 300.0}  # a rigidity spec near the derived chain's nominal (310 since issue 28), to show its yield
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""The cycloid disc's body by finite elements (mechanics/disc_body.py, docs/fe-disc-notes.md): the
+"""The cycloid disc's body by finite elements (mechanics/disc_body.py, docs/rigidity-elements.md): the
 plane-stress code against a closed form, the rv80e disc's mesh convergence, its invariants, and the
 design's holes refused with the field named."""
 
@@ -22,7 +22,7 @@ from rvbacklash.mechanics.plane_mesh import circle_polyline, facets_on_circle, m
 from rvbacklash.problem import prepare
 
 LEVER_FACTOR = 0.9686  # rv80e: output rotation per disc rotation (models/compliance.cycloid_lever_factor)
-BEARING_N_PER_UM = 673.5  # rv80e: one needle bearing's secant at the rated torque's load (docs/fe-disc-notes.md)
+BEARING_N_PER_UM = 673.5  # rv80e: one needle bearing's secant at the rated torque's load (docs/rigidity-elements.md)
 COARSE = MeshSize(12, 2.5, 6.0)  # the invariants do not need the default's accuracy
 
 
@@ -94,7 +94,7 @@ def test_the_rv80e_disc_converges_on_refinement(rv80e_problem, forces):
     fine = disc_body_compliance(rv80e_problem, 0.0, forces, BEARING_N_PER_UM, disc=0, mesh=MeshSize().refined(1.5))
     assert fine.elements > 1.5 * base.elements
     assert abs(fine.compliance_rad_per_nm / base.compliance_rad_per_nm - 1) < 0.01  # measured 0.3 %
-    # the figure the notes report (docs/fe-disc-notes.md): 3.24e-7 rad/(N m) for disc 0 at chi = 0
+    # the figure the notes report (docs/rigidity-elements.md): 3.24e-7 rad/(N m) for disc 0 at chi = 0
     assert base.compliance_rad_per_nm == pytest.approx(3.242e-7, rel=0.01)
 
 

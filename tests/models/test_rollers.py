@@ -1,5 +1,5 @@
 """The bearings' rollers by slices with their profile (ISO/TS 16281; models/compliance.py,
-models/elastic/rollers.py, docs/rollers-notes.md): the straight limit is today's law, ISO's
+models/elastic/rollers.py, docs/rigidity-elements.md): the straight limit is today's law, ISO's
 constant against Palmgren's, what a crown and a tilt do, the needle law's fit, the support
 bearings' sliced set, the design fields."""
 

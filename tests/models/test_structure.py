@@ -177,7 +177,8 @@ def test_rigid_limit_reproduces_the_chain_without_structure(problem, model, rv80
     m0 = el.elastic_model(rigid)
     c = model.chain._replace(crank_compliance_rad_per_nm=model.chain.crank_compliance_rad_per_nm * 1e-15,
                              carrier_compliance_rad_per_nm=model.chain.carrier_compliance_rad_per_nm * 1e-15,
-                             support_a=model.chain.support_a * 1e-18, translation_factor=1.0)
+                             support_a=model.chain.support_a * 1e-18, translation_factor=1.0,
+                             disc_body_compliance_rad_per_nm=model.chain.disc_body_compliance_rad_per_nm * 1e-15)
     stiff = el.ElasticModel(model.inputs, model.geometry, c, model.roller_cos, model.bearings,
                             model.crank_circle_radius_mm, model.raceway_diameter_mm)
     for u in (el.nominal_unit(problem), el.nominal_unit(problem, 0.4)):

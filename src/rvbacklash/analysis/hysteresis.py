@@ -53,7 +53,7 @@ ASSUMPTIONS_STRUCTURE = (
 
 
 def profile_assumptions(model: ElasticModel) -> str:
-    """What the assumptions add for profiled rollers (docs/rollers-notes.md); nothing for straight ones."""
+    """What the assumptions add for profiled rollers (docs/rigidity-elements.md); nothing for straight ones."""
     out = ""
     fit = model.needle_fit
     if fit is not None:

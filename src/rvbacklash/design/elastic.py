@@ -92,7 +92,7 @@ class ElasticInputs(_Strict):
         None, gt=0, le=1000, description="inner raceway (eccentric) diameter [mm]; default crank_stage.bearing_bore_mm")
 
     crank_bearing_roller_profile: Literal["logarithmic", "crowned", "straight"] = Field(
-        "logarithmic", description="generatrix of the needle rollers (docs/rollers-notes.md): logarithmic (ISO/TS "
+        "logarithmic", description="generatrix of the needle rollers (docs/rigidity-elements.md): logarithmic (ISO/TS "
                                    "16281's profile for an unknown one; scale crank_bearing_roller_log_scale_um), "
                                    "crowned (a circular crown, crank_bearing_roller_crown_drop_um at the ends), "
                                    "straight (no profile: the law per roller as before)")

@@ -133,7 +133,7 @@ class StructureInputs(_Strict):
                                        "clearance the shims set (diametral interference) [um]; raises the stiffness; "
                                        "exclusive with a clearance")
     support_bearing_roller_profile: Literal["logarithmic", "crowned", "straight"] = Field(
-        "logarithmic", description="generatrix of the tapered rollers (docs/rollers-notes.md): logarithmic (ISO/TS "
+        "logarithmic", description="generatrix of the tapered rollers (docs/rigidity-elements.md): logarithmic (ISO/TS "
                                    "16281's profile for an unknown one), crowned (circular crown, "
                                    "support_bearing_roller_crown_drop_um at the ends), straight (Palmgren's law per "
                                    "roller, no tilt: the model before profiles). Profiled rollers are sliced and "

@@ -1,5 +1,5 @@
 """The holes of a cycloid disc: its crank bores, the carrier pillars' holes and an optional centre
-hole, as circles in the disc's frame [mm] (docs/fe-disc-notes.md). Plain numbers in, circles out:
+hole, as circles in the disc's frame [mm] (docs/rigidity-elements.md). Plain numbers in, circles out:
 the design's checks (design/structure.py) and the disc's finite elements (mechanics/disc_body.py)
 read the same layout.
 

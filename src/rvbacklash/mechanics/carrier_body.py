@@ -1,5 +1,5 @@
 """The carrier (output flange, pillars, end plate) as one 3-D body by finite elements, once per
-design (docs/fe-carrier-notes.md).
+design (docs/rigidity-elements.md).
 
 **Body** (``carrier_mesh``): the output flange, the pillars and the end plate fused into one
 solid with the support bearings' seats bored in both plates; quadratic tetrahedra in scikit-fem

@@ -1,4 +1,4 @@
-"""The carrier's body for the finite elements (mechanics/carrier_body.py, docs/fe-carrier-notes.md):
+"""The carrier's body for the finite elements (mechanics/carrier_body.py, docs/rigidity-elements.md):
 its dimensions (``CarrierGeometry``) and its gmsh mesh (``build_mesh``).
 
 z along the reducer's axis. The output flange is a plate z = 0 ... t_f (outer diameter D,

@@ -1,6 +1,6 @@
 """The cycloid disc's body by finite elements (plane stress): its compliance between the pins'
 contacts and the crank needle bearings, and how it shares the torque among the cranks
-(docs/fe-disc-notes.md). Computed once per design and load, cached (mechanics/fe_cache.py).
+(docs/rigidity-elements.md). Computed once per design and load, cached (mechanics/fe_cache.py).
 
 Frame: the disc frame of geometry/cycloid.py. Pin j sits at psi_j = 2 pi j / z_p on the pin
 circle r_p of the housing; disc d is on its eccentric at chi_d = chi + 2 pi d / discs (centre

@@ -1,5 +1,5 @@
 """Three-dimensional linear elasticity on gmsh meshes: what every 3-D body of the mechanics layer
-shares (docs/fe-carrier-notes.md).
+shares (docs/rigidity-elements.md).
 
 - ``gmsh_session``: a gmsh model for one mesh (no terminal output, Ctrl-C left to the caller);
 - ``tet_mesh``: the model's linear tetrahedra as a scikit-fem ``MeshTet``;

@@ -562,7 +562,7 @@ def housing_ring_torsion_compliance_rad_per_nm(inner_radius_mm: float, outer_rad
     return (1.0 / inner_radius_mm ** 2 - 1.0 / outer_radius_mm ** 2) / (4.0 * math.pi * g * thickness_mm) * 1e3
 
 
-# --- rolling elements by slices (ISO/TS 16281:2008; docs/rollers-notes.md) --------------------
+# --- rolling elements by slices (ISO/TS 16281:2008; docs/rigidity-elements.md) --------------------
 # A roller is cut into n_s slices of width L / n_s along its effective length L; slice k at x_k
 # (from the roller's middle) closes by delta_k = delta + tilt x_k - 2 P_k, P_k the roller's
 # profile drop there (it opens both of the roller's contacts, hence 2 P_k: ISO/TS 16281's

@@ -258,7 +258,7 @@ def closed_form_model(problem: Problem) -> ElasticModel:
 
 
 def with_profiled_needles(problem: Problem, model: ElasticModel) -> ElasticModel:
-    """The model with the crank needle rollers' profile (docs/rollers-notes.md): their sliced law
+    """The model with the crank needle rollers' profile (docs/rigidity-elements.md): their sliced law
     (``rollers.sliced_roller``, no tilt) fitted as a power law (``rollers.fit_roller_law``) over the
     roller loads the bearing sees: from half the most loaded roller's at the lost motion's torque
     (x T_R, no clearance) to the most loaded roller's at the rated torque with the largest
@@ -439,12 +439,18 @@ def pin_law_a(phi, c):
 @njit(nogil=True, cache=True, inline="always")
 def seat_angle_rad(pins, x, t_el, c):
     """The seats' part of the pins' output angle x [rad] at chain torque t_el (the pins' solve just
-    done: its forces are the closed contacts' at x). Every closed pin j closes by
-    delta_j = L_j x - g_j = delta_flank + delta_seat and 1e-6 sum F_j L_j = t_el, so
-    x = 1e-6 [sum F_j g_j + sum F_j delta_flank + sum F_j delta_seat] / t_el: the seats' part is
-    1e-6 sum F_j delta_seat,j / t_el. With one law form, delta_seat = F^n (a_s - b_s ln F), and
-    b_s = sigma b: delta_seat = F a_s + sigma (delta_j - F a_j) (Johnson, n = 1: no logarithm);
-    Palmgren (b = 0): delta_seat = (a_s / a_j) delta_j. 0 at zero torque and without seats."""
+    done: its forces are the closed contacts' at x): how much x owes to the seats' compliance, to first
+    order. Every closed pin j closes by delta_j = L_j x - g_j = delta_flank(F_j) + delta_seat(F_j);
+    stiffening the seats away (delta_seat -> s delta_seat, s: 1 -> 0) moves x by
+
+        x_seat = sum_j k_j L_j delta_seat,j / sum_j k_j L_j^2      (k_j = dF_j/d delta_j, the pair's tangent)
+
+    (implicit differentiation of 1e-6 sum F_j L_j = t_el at fixed torque: exact for one contact and for
+    linear contacts; a preloaded set's opposing contacts cancel, as their seats move x by nothing).
+    With one law form, delta = F^n (a - b ln F), and b_seat = sigma b: Johnson (n = 1):
+    delta_seat = F a_s + sigma (delta_j - F a_j), d delta/dF = delta_j / F - b; Palmgren (b = 0):
+    delta_seat = (a_s / a_j) delta_j, d delta/dF = n delta_j / F. No logarithm. 0 at zero torque and
+    without seats."""
     if c.seat_a == 0.0 or t_el == 0.0:
         return 0.0
     cs = pins.contacts
@@ -453,22 +459,31 @@ def seat_angle_rad(pins, x, t_el, c):
     pos_end = max(cs.npos, 0)
     sorted_end = pos_end + cs.nneg if cs.npos >= 0 else 0
     m = gaps.size
-    total = 0.0
+    moved = 0.0
+    stiffness = 0.0
     for run in range(3):  # set_load's runs: the closed contacts of a sorted run are its prefix
         lo_j = 0 if run == 0 else (pos_end if run == 1 else sorted_end)
         hi_j = pos_end if run == 0 else (sorted_end if run == 1 else m)
         for j in range(lo_j, hi_j):
-            d = cs.levers[j] * x - gaps[j]
+            lever = cs.levers[j]
+            d = lever * x - gaps[j]
             if d <= 0.0:
                 if run < 2:
                     break
                 continue
             f = cs.forces[j]
+            if f <= 0.0:
+                continue
             if c.johnson:
-                total += f * (f * c.seat_a + c.seat_b_fraction * (d - f * cs.law_a[j]))
+                seat = f * c.seat_a + c.seat_b_fraction * (d - f * cs.law_a[j])
+                slope = d / f - c.law_b
             else:
-                total += f * d * c.seat_a / cs.law_a[j]
-    return 1e-6 * total / t_el
+                seat = d * c.seat_a / cs.law_a[j]
+                slope = c.law_n * d / f
+            k = 1.0 / slope
+            moved += k * lever * seat
+            stiffness += k * lever * lever
+    return moved / stiffness if stiffness > 0.0 else 0.0
 
 
 @njit(nogil=True, cache=True)

@@ -1,4 +1,4 @@
-"""The bearings' rollers by slices with their profile (ISO/TS 16281:2008; docs/rollers-notes.md).
+"""The bearings' rollers by slices with their profile (ISO/TS 16281:2008; docs/rigidity-elements.md).
 
 A profiled roller's law (``compliance.sliced_roller_load_n``) is computed once per design:
 
