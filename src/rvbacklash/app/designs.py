@@ -9,6 +9,7 @@ analyses prepare, what is downloaded and what the command line re-runs.
 
 from __future__ import annotations
 
+import functools
 import json
 import re
 from collections import OrderedDict
@@ -81,6 +82,12 @@ def _append(table, key: str, value: Any) -> None:
         table[key] = value
 
 
+@functools.lru_cache(maxsize=8)
+def _checked(text: str, origin: str) -> None:
+    """Validate a design's text once (a what-if loop edits the same text again and again)."""
+    design_from_toml(text, origin)
+
+
 def _trailing(body: list) -> int:
     """How many items at the end of a table's body are comments and blank lines."""
     n = 0
@@ -112,7 +119,7 @@ def edited_text(text: str, edits: Mapping[str, Any], origin: str = "design") -> 
     edits = _check_edits(edits)
     if not edits:
         return text
-    design_from_toml(text, origin)  # the text itself first: its own error before any edit's
+    _checked(text, origin)  # the text itself first: its own error before any edit's
     doc = tomlkit.parse(text.removeprefix("\ufeff"))
     for path, value in edits.items():
         *parents, leaf = path.split(".")

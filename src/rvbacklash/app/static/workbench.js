@@ -148,8 +148,8 @@ function buildControls(c) {
   const body = $("#factors tbody");
   body.replaceChildren();
   for (const f of c.factors) {
-    const lo = el("input", { type: "number", step: "any", value: +f.lower_um.toFixed(4), id: `zone-${f.key}-lower` });
-    const hi = el("input", { type: "number", step: "any", value: +f.upper_um.toFixed(4), id: `zone-${f.key}-upper` });
+    const lo = el("input", { type: "number", step: "any", value: +f.lower_um.toFixed(3), id: `zone-${f.key}-lower` });
+    const hi = el("input", { type: "number", step: "any", value: +f.upper_um.toFixed(3), id: `zone-${f.key}-upper` });
     const set = () => {
       state.edits[`factors.${f.key}.plus_minus_um`] = null;
       state.edits[`factors.${f.key}.lower_um`] = numberOf(lo);
@@ -176,7 +176,7 @@ function refreshZones(c) {
     row.querySelector(".origin").title = f.origin;
     for (const [side, v] of [["lower", f.lower_um], ["upper", f.upper_um]]) {
       const input = $(`#zone-${f.key}-${side}`);
-      if (input && document.activeElement !== input) input.value = +v.toFixed(4);
+      if (input && document.activeElement !== input) input.value = +v.toFixed(3);
     }
   }
 }
