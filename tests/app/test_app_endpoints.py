@@ -226,3 +226,36 @@ def test_the_page_and_its_scripts_are_served_from_the_package(client):
     assert js.status_code == 200 and len(js.content) > 1_000_000
     assert client.get("/static/workbench.js").status_code == 200
     assert client.get("/api/initial").json() == {"design": "rv80e", "origin": None}
+
+
+def test_an_on_demand_job_shows_its_progress_and_can_be_cancelled():
+    import httpx2
+
+    async def main():
+        app = create_app("rv80e")
+        async with httpx2.AsyncClient(transport=httpx2.ASGITransport(app=app), base_url="http://wb") as c:
+            job = asyncio.create_task(c.post("/api/sensitivity", json={
+                "design": "rv80e", "model": "contact", "samples": 1 << 14, "request_id": "sobol-9"}))
+            seen = None
+            for _ in range(600):  # until it has done some of its model runs
+                await asyncio.sleep(0.05)
+                p = await c.get("/api/progress", params={"id": "sobol-9"})
+                if p.status_code == 200 and p.json()["done"] > 0:
+                    seen = p.json()
+                    break
+            cancel = await c.post("/api/cancel", json={"id": "sobol-9"})
+            answer = await job
+            after = (await c.get("/api/progress", params={"id": "sobol-9"})).json()
+            return seen, cancel, answer, after, app.state.jobs.active()
+
+    seen, cancel, answer, after, active = asyncio.run(main())
+    assert seen is not None and seen["state"] == "running" and 0 < seen["done"] < seen["total"]
+    assert seen["total"] == (1 << 14) * (19 + 2)  # N (D + 2) model runs, as the command line counts them
+    assert cancel.status_code == 200 and answer.status_code == 409 and answer.json()["superseded"]
+    assert after["state"] == "cancelled" and active == 0
+
+
+def test_the_report_downloads_as_html(client):
+    r = client.post("/api/report", json={"design": "sun2014", "samples": 2000, "seed": 1, "specs": {"arcmin": 3}})
+    assert r.status_code == 200 and r.text.startswith("<!DOCTYPE html>")
+    assert "attachment" in r.headers["content-disposition"] and "sun2014" in r.text

@@ -339,8 +339,10 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         try:
             item = designs.get(initial_design, None, initial_origin)
             for m in controls(item)["models"]:
+                if jobs.stopping.is_set():  # Ctrl-C during the warm-up: stop between models
+                    return
                 api.simulate(item.problem, model=m, samples=256, seed=0)
-            if item.problem.design.elastic is not None:
+            if item.problem.design.elastic is not None and not jobs.stopping.is_set():
                 api.hysteresis(item.problem)
         except Exception:  # the page reports a bad design itself; a warm-up never stops the server
             pass

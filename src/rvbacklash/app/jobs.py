@@ -71,6 +71,7 @@ class Jobs:
         self._jobs: dict[str, Job] = {}  # the last `keep` jobs, for progress and cancel
         self._keep = keep
         self._ids = itertools.count(1)
+        self.stopping = threading.Event()  # set when the server stops (the warm-up checks it)
 
     def _register(self, job_id: Any, channel: Any, total: int | None) -> Job:
         job = Job(str(job_id) if job_id is not None else f"job-{next(self._ids)}",
@@ -135,6 +136,7 @@ class Jobs:
             return sum(j.state in ("queued", "running") for j in self._jobs.values())
 
     def shutdown(self) -> None:
+        self.stopping.set()
         with self._lock:
             for job in self._jobs.values():
                 job.cancel("server stopping")

@@ -5,7 +5,8 @@
 
 const UNITS = { arcmin: "arcmin", nm_per_arcmin: "N·m/arcmin", um: "µm", arcsec: "arcsec" };
 const TITLES = { backlash: "Backlash", lost_motion: "Lost motion", rigidity: "Torsional rigidity",
-                 preload: "Preload", transmission_error: "TE peak-to-peak" };
+                 preload: "Preload", transmission_error: "TE peak-to-peak",
+                 lost_motion_max: "Largest rigid lost motion over a revolution" };
 // the specs each model reads: request key -> label (the command line's --spec-... flags)
 const SPECS = {
   linear: { arcmin: "backlash ≤ [arcmin]" },
@@ -275,14 +276,14 @@ function renderTe(t) {
     { type: "scatter", mode: "lines", name: "TE ccw [arcsec]", x: t.output_angle_deg, y: t.te_ccw_arcsec },
     { type: "scatter", mode: "lines", name: "TE cw [arcsec]", x: t.output_angle_deg, y: t.te_cw_arcsec },
     { type: "scatter", mode: "lines", name: "lost motion [arcmin]", x: t.output_angle_deg, y: t.lost_motion_arcmin, yaxis: "y2" }],
-    { title: { text: `TE p-p ${fmt(t.te_peak_to_peak_arcsec, 2)} arcsec (${t.unit})`, font: { size: 13 } }, height: 300,
-      margin: { l: 55, r: 55, t: 36, b: 40 }, xaxis: { title: { text: "output angle [deg]" } },
+    { title: { text: `TE p-p ${fmt(t.te_peak_to_peak_arcsec, 2)} arcsec (${t.unit})`, font: { size: 13 } }, height: 330,
+      margin: { l: 55, r: 55, t: 36, b: 90 }, xaxis: { title: { text: "output angle [deg]" } },
       yaxis: { title: { text: "[arcsec]" } }, yaxis2: { title: { text: "[arcmin]" }, overlaying: "y", side: "right" },
-      legend: { orientation: "h", y: -0.25 } }, { displayModeBar: false, responsive: true });
+      legend: { orientation: "h", y: -0.3 } }, { displayModeBar: false, responsive: true });
   const amp = t.spectrum_amplitude_arcsec;
   Plotly.react($("#fig-spectrum"), [{ type: "bar", x: amp.map((_, i) => i), y: amp, marker: { color: "#4c78a8" } }],
-    { title: { text: "spectrum (orders per output revolution)", font: { size: 13 } }, height: 300,
-      margin: { l: 55, r: 10, t: 36, b: 40 }, xaxis: { title: { text: "order" }, range: [0, Math.min(amp.length, 170)] },
+    { title: { text: "spectrum (orders per output revolution)", font: { size: 13 } }, height: 330,
+      margin: { l: 55, r: 10, t: 36, b: 90 }, xaxis: { title: { text: "order" }, range: [0, Math.min(amp.length, 170)] },
       yaxis: { title: { text: "amplitude [arcsec]" } } }, { displayModeBar: false, responsive: true });
 }
 
