@@ -14,6 +14,7 @@ from helpers import run_cli
 from rvbacklash.app import create_app
 from rvbacklash.app.endpoints import MAX_BODY_BYTES
 from rvbacklash.design.loading import example_text
+from rvbacklash.report.files import render_json
 
 
 def timeless(data):
@@ -182,6 +183,13 @@ def test_hysteresis_te_sensitivity_and_allocate_answer_the_clis_json(client):
     h = client.post("/api/hysteresis", json={"design": "rv80e", "points": 21})
     assert h.status_code == 200
     assert timeless(h.json()) == timeless(cli_json("hysteresis", "rv80e", "--points", 21))
+    section = client.post("/api/elastic-section", json={"design": "rv80e", "samples": 200, "seed": 1})
+    assert section.status_code == 200
+    from rvbacklash.api import elastic_section
+
+    assert timeless(section.json()) == timeless(json.loads(render_json(elastic_section("rv80e", samples=200, seed=1)
+                                                                       .to_dict())))
+    assert set(section.json()["quantile_units"]) == {"5 %", "95 %"}
     te = client.post("/api/transmission-error", json={"design": "rv80e", "positions": 400})
     assert te.status_code == 200
     assert timeless(te.json()) == timeless(cli_json("transmission-error", "rv80e", "--positions", 400))

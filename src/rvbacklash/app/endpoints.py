@@ -232,14 +232,22 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     @endpoint({"points"})
     async def hysteresis(body: dict) -> Response:
         points = whole(body, "points", 41, 5, 1001)
-        return rendered(await run(body, lambda job: api.hysteresis(design_of(body).problem, points=points)))
+        return rendered(await run(body, lambda job: api.hysteresis(design_of(body).problem, points=points),
+                                  pool="figures"))
+
+    @endpoint({"samples", "seed"})
+    async def elastic_section(body: dict) -> Response:
+        n = whole(body, "samples", 2000, 20, 100_000)
+        seed = whole(body, "seed", 0, 0, 2**63 - 1)
+        return rendered(await run(body, lambda job: api.elastic_section(design_of(body).problem, samples=n, seed=seed),
+                                  pool="figures"))
 
     @endpoint({"positions", "load_direction"})
     async def transmission_error(body: dict) -> Response:
         positions = whole(body, "positions", 1024, 1, 1 << 16)
         direction = choice(body, "load_direction", "ccw", ("ccw", "cw"))
         return rendered(await run(body, lambda job: api.transmission_error(
-            design_of(body).problem, positions=positions, load_direction=direction)))
+            design_of(body).problem, positions=positions, load_direction=direction), pool="figures"))
 
     @endpoint({"model", "output", "samples", "seed"})
     async def sensitivity(body: dict) -> Response:
@@ -324,7 +332,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     async def plotly(request: Request) -> Response:
         return FileResponse(plotly_js(), media_type="text/javascript")
 
-    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis,
+    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),

@@ -1,8 +1,9 @@
 """Computations off the event loop, the newest one winning.
 
-Every computation runs in a worker thread: one for the live figures, one for reading and checking
-designs (never queued behind a run), one for the on-demand Sobol / allocation / report runs (a
-long allocation never delays a card). A request may
+Every computation runs in a worker thread: one for the production runs behind the cards, one for
+the figures that follow them (loops, TE curves: a next change's run never waits for them), one
+for reading and checking designs, one for the on-demand Sobol / allocation / report runs (a long
+allocation never delays a card). A request may
 name a ``channel`` (the page names one per kind of figure): a newer request on the same channel
 supersedes the older one, which is cancelled (if it has not started, it never starts; if it is
 running, its progress callback raises at the next block) and answered ``409 superseded``. The
@@ -65,6 +66,7 @@ class Jobs:
     def __init__(self, keep: int = 64):
         self._pools = {"live": ThreadPoolExecutor(1, thread_name_prefix="rvb-live"),
                        "design": ThreadPoolExecutor(1, thread_name_prefix="rvb-design"),
+                       "figures": ThreadPoolExecutor(1, thread_name_prefix="rvb-figures"),
                        "demand": ThreadPoolExecutor(1, thread_name_prefix="rvb-demand")}
         self._lock = threading.Lock()
         self._latest: dict[str, Job] = {}

@@ -256,11 +256,23 @@ function renderSimulation(data) {
   }
 }
 
-function renderLoop(h) {
-  const traces = h.loop.map((b) => ({ type: "scatter", mode: "lines", name: b.branch, x: b.angle_arcmin, y: b.torque_nm }));
+function loopTrace(unit, name, style) {
+  // one closed loop: the four branches joined (load+, unload+, load-, unload-)
+  const x = [], y = [];
+  for (const b of unit.loop) { x.push(...b.angle_arcmin, null); y.push(...b.torque_nm, null); }
+  return { type: "scatter", mode: "lines", name, x, y, line: style };
+}
+
+function renderLoop(section) {
+  const h = section.nominal;
+  const traces = [loopTrace(h, `nominal: ${fmt(h.lost_motion_arcmin, 3)} arcmin`, { color: "#1d2733", width: 2.5 })];
+  const colours = ["#2f9e44", "#e8590c", "#1864ab", "#9c36b5"];
+  Object.entries(section.quantile_units || {}).forEach(([q, u], i) =>
+    traces.push(loopTrace(u, `${q} unit: ${fmt(u.lost_motion_arcmin, 3)} arcmin`, { color: colours[i % 4], dash: "dash" })));
   Plotly.react($("#fig-loop"), traces, {
-    title: { text: `lost motion ${fmt(h.lost_motion_arcmin)} arcmin, backlash ${fmt(h.backlash_arcmin)} arcmin, ` +
-                   `rigidity ${fmt(h.torsional_rigidity_nm_per_arcmin)} N·m/arcmin`, font: { size: 13 } },
+    title: { text: `nominal unit: lost motion ${fmt(h.lost_motion_arcmin)} arcmin, backlash ${fmt(h.backlash_arcmin)} arcmin, ` +
+                   `rigidity ${fmt(h.torsional_rigidity_nm_per_arcmin)} N·m/arcmin; beside it the units at the 5 % and ` +
+                   `95 % quantiles of lost motion (of 2000)`, font: { size: 12 } },
     height: 340, margin: { l: 60, r: 10, t: 40, b: 45 },
     xaxis: { title: { text: "output angle [arcmin]" } }, yaxis: { title: { text: "torque [N·m]" } } },
     { displayModeBar: false, responsive: true });
@@ -337,7 +349,7 @@ async function secondary(id) {
     $(box).textContent = "";
     render(await r.json());
   };
-  if (m === "elastic") figure("/api/hysteresis", {}, "#loop-error", renderLoop);
+  if (m === "elastic") figure("/api/elastic-section", { samples: 2000, seed: numberOf($("#seed")) }, "#loop-error", renderLoop);
   if (m === "transmission") figure("/api/transmission-error", {}, "#te-error", renderTe);
 }
 
