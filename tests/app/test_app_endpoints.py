@@ -157,7 +157,11 @@ def test_the_body_is_size_limited(client):
             yield b"x" * (MAX_BODY_BYTES // 32)
     r = client.post("/api/simulate", content=chunks(), headers={"Content-Type": "application/json"})
     assert r.status_code == 413
-    assert client.post("/api/simulate", content=b"[1, 2]").json()["field"] == "body"
+    assert client.post("/api/simulate", content=b"[1, 2]", headers={"Content-Type": "application/json"}
+                       ).json()["field"] == "body"
+    # a form another site's page could post without asking: refused before anything runs
+    r = client.post("/api/simulate", content=b'{"design": "rv80e"}', headers={"Content-Type": "text/plain"})
+    assert r.status_code == 422 and r.json()["field"] == "Content-Type"
 
 
 def test_no_path_is_ever_opened(client, tmp_path):

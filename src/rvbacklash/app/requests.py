@@ -30,6 +30,9 @@ class BodyTooLarge(Exception):
 
 async def read_body(request: Request) -> dict:
     """The request's JSON object, at most MAX_BODY_BYTES (checked as it arrives)."""
+    kind = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    if kind != "application/json":  # a page of another site cannot send this without the workbench's consent (CORS)
+        raise InputError("Content-Type", kind or None, "allowed: application/json")
     length = request.headers.get("content-length")
     if length is not None and length.isdigit() and int(length) > MAX_BODY_BYTES:
         raise BodyTooLarge(int(length))

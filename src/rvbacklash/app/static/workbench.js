@@ -19,8 +19,10 @@ const PAGE = "page-" + Math.random().toString(36).slice(2, 10);  // this page's 
 
 const state = {
   design: null, origin: null, edits: {}, controls: null,
-  specs: { arcmin: 3, lost_motion_arcmin: 1.5, rigidity_nm_per_arcmin: 450, te_arcsec: 60 },
-  seq: 0, shown: 0, lastJson: null, demandId: null, demandTimer: null,
+  // each model's own specs (a TE spec would turn the contact model into the transmission model)
+  specs: { linear: { arcmin: 3 }, contact: { arcmin: 3 }, elastic: { lost_motion_arcmin: 1.5, rigidity_nm_per_arcmin: 450 },
+           transmission: { arcmin: 3, te_arcsec: 60 } },
+  seq: 0, demandSeq: 0, shown: 0, lastJson: null, demandId: null, demandTimer: null,
 };
 window.workbench = state;  // for scripts and the browser test
 
@@ -58,8 +60,9 @@ const pct = (x) => (x === null || x === undefined) ? "–" : (100 * x).toFixed(2
 function model() { return $("#model").value; }
 function specsForModel() {
   const out = {};
+  const mine = state.specs[model()] || {};
   for (const key of Object.keys(SPECS[model()] || {})) {
-    const v = state.specs[key];
+    const v = mine[key];
     if (v !== null && v !== undefined && v !== "") out[key] = v;
   }
   return out;
@@ -110,9 +113,9 @@ function buildSpecs() {
   const box = $("#specs");
   box.replaceChildren();
   for (const [key, label] of Object.entries(SPECS[model()] || {})) {
-    const input = el("input", { type: "number", step: "any", id: "spec-" + key,
-                                value: state.specs[key] ?? "" });
-    input.addEventListener("change", () => { state.specs[key] = numberOf(input); update(); });
+    const mine = state.specs[model()];
+    const input = el("input", { type: "number", step: "any", id: "spec-" + key, value: mine[key] ?? "" });
+    input.addEventListener("change", () => { mine[key] = numberOf(input); update(); });
     box.append(fieldRow("specs." + key, label, input));
   }
 }
@@ -373,7 +376,7 @@ function startProgress(id) {
 function endProgress() { clearInterval(state.demandTimer); $("#progress-row").hidden = true; state.demandId = null; }
 
 async function onDemand(path, body, done) {
-  const id = `${PAGE}-${path.split("/").pop()}-${++state.seq}`;
+  const id = `${PAGE}-${path.split("/").pop()}-${++state.demandSeq}`;  // not the live changes' counter
   startProgress(id);
   const r = await post(path, { ...baseBody(), ...body, request_id: id, channel: PAGE + "-demand" });
   if (state.demandId !== id) return;
@@ -457,7 +460,7 @@ async function start() {
     async (r) => renderSobol(await r.json())));
   $("#run-allocate").addEventListener("click", () => {
     const m = $("#alloc-model").value;
-    const spec = m === "elastic" ? state.specs.lost_motion_arcmin : state.specs.arcmin;
+    const spec = m === "elastic" ? state.specs.elastic.lost_motion_arcmin : (state.specs[m].arcmin ?? 3);
     onDemand("/api/allocate", { model: m, spec_arcmin: spec, yield: numberOf($("#alloc-yield")),
                                 samples: m === "linear" ? undefined : 2000, seed: numberOf($("#seed")) },
              async (r) => renderAllocation(await r.json()));
