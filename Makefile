@@ -34,6 +34,7 @@ bench: $(STAMP)
 # Refresh docs/report.png (the README's picture) from the example report.
 screenshot: example
 	$(VENV)/bin/python tools/screenshot.py out/report.html docs/report.png
+	$(VENV)/bin/python tools/screenshot_workbench.py docs/workbench.png
 
 clean:
 	rm -rf $(VENV) out

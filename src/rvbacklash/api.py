@@ -73,6 +73,41 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
                      stream=stream, error_model=error_model, save_units=save_units)
 
 
+def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
+                 preload: float | None = None) -> dict[str, float]:
+    """The specs beside ``spec_arcmin``, by output name ({"lost_motion": X, "rigidity": K,
+    "preload": P}); each checked against the model that has the output. The command line
+    (``--spec-*`` flags) and the workbench (``"specs"``) read their specs through it."""
+    specs = {}
+    for name, key, value, models in (("spec_lost_motion_arcmin", "lost_motion", lost_motion, ("elastic",)),
+                                     ("spec_rigidity_nm_per_arcmin", "rigidity", rigidity, ("elastic",)),
+                                     ("spec_preload_um", "preload", preload, ("contact", "elastic"))):
+        if value is None:
+            continue
+        if model not in models:
+            raise InputError(name, value, f"allowed with --model {' or '.join(models)} only")
+        if not (math.isfinite(value) and (value >= 0 if key == "preload" else value > 0)):
+            raise InputError(name, value, "allowed: a finite number >= 0" if key == "preload" else
+                             "allowed: a finite number > 0")
+        specs[key] = value
+    if lost_motion is not None and spec_arcmin is not None:
+        raise InputError("spec_lost_motion_arcmin", lost_motion, "allowed: --spec-arcmin or --spec-lost-motion-arcmin, "
+                                                                 "not both (both set the lost motion's spec)")
+    return specs
+
+
+def te_model_and_specs(model: str, spec_te_arcsec: float | None, specs: dict) -> tuple[str, dict]:
+    """A TE spec (``spec_te_arcsec``), checked before any work; with the contact model the run
+    becomes the transmission model's (the same units, turned through a revolution)."""
+    if spec_te_arcsec is None:
+        return model, specs
+    if model not in ("contact", "transmission"):
+        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed with --model contact or transmission only")
+    if not (math.isfinite(spec_te_arcsec) and spec_te_arcsec > 0):
+        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed: a finite number > 0 [arcsec]")
+    return "transmission", {**specs, "transmission_error": spec_te_arcsec}
+
+
 def exact(design: DesignLike, *, spec_arcmin: float | None = None, quantiles: Iterable[float] = ()) -> SimulationResult:
     """The linear model's exact output distribution (closed form, or FFT convolution)."""
     from rvbacklash.analysis.simulation import exact_result

@@ -15,7 +15,7 @@ from rvbacklash.cli.common import (CONTACT_NOTE, DESIGN_HELP, ERROR_MODEL_OPTION
                                    SPEC_LOST_MOTION_OPTION, SPEC_OPTION, SPEC_PRELOAD_OPTION, SPEC_RIGIDITY_OPTION,
                                    WORKERS_OPTION, Format, Outputs, command, csv_option, json_option, parse_samples,
                                    progress_bar, stdout_console, workers_or_none)
-from rvbacklash.cli.transmission import SPEC_TE_OPTION, te_model_and_specs
+from rvbacklash.cli.transmission import SPEC_TE_OPTION
 from rvbacklash.errors import InputError
 
 
@@ -80,9 +80,9 @@ def simulate(
 
     n = parse_samples(samples) if method != "exact" else None
     threads = workers_or_none(workers)
-    specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
+    specs = api.output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
                          spec_preload_um)
-    model, specs = te_model_and_specs(model, spec_te_arcsec, specs)
+    model, specs = api.te_model_and_specs(model, spec_te_arcsec, specs)
     n_save, save_path = save_units if save_units is not None else (0, None)
     if save_units is not None and n_save < 1:
         raise InputError("--save-units", n_save, "allowed: N >= 1 units to write to FILE")
@@ -107,29 +107,6 @@ def simulate(
         raise typer.Exit(130)
 
 
-
-def output_specs(model: str, spec_arcmin: Optional[float], lost_motion: Optional[float], rigidity: Optional[float],
-                 preload: Optional[float] = None) -> dict[str, float]:
-    """The specs beside --spec-arcmin, by output name ({"lost_motion": X, "rigidity": K,
-    "preload": P}); each flag checked against the model that has the output."""
-    import math
-
-    specs = {}
-    for name, key, value, models in (("spec_lost_motion_arcmin", "lost_motion", lost_motion, ("elastic",)),
-                                     ("spec_rigidity_nm_per_arcmin", "rigidity", rigidity, ("elastic",)),
-                                     ("spec_preload_um", "preload", preload, ("contact", "elastic"))):
-        if value is None:
-            continue
-        if model not in models:
-            raise InputError(name, value, f"allowed with --model {' or '.join(models)} only")
-        if not (math.isfinite(value) and (value >= 0 if key == "preload" else value > 0)):
-            raise InputError(name, value, "allowed: a finite number >= 0" if key == "preload" else
-                             "allowed: a finite number > 0")
-        specs[key] = value
-    if lost_motion is not None and spec_arcmin is not None:
-        raise InputError("spec_lost_motion_arcmin", lost_motion, "allowed: --spec-arcmin or --spec-lost-motion-arcmin, "
-                                                                 "not both (both set the lost motion's spec)")
-    return specs
 
 def parse_scenario(text: str):
     """'NAME:key=value,key=value' -> Scenario. Keys: involute, cycloid, crank, all, edition, or a
@@ -259,10 +236,10 @@ def report(
     n = parse_samples(samples) if method != "exact" else None
     chosen = [parse_scenario(text) for text in scenario]
     threads = workers_or_none(workers)
-    specs = output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
+    specs = api.output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
                          spec_preload_um)
     # a TE spec makes the report's run the transmission model's (the default linear model has no TE)
-    model, _ = te_model_and_specs("contact" if spec_te_arcsec is not None and model == "linear" else model,
+    model, _ = api.te_model_and_specs("contact" if spec_te_arcsec is not None and model == "linear" else model,
                                   spec_te_arcsec, {})
     if allocate and yield_target is None:
         raise InputError("--yield", None, "allowed: a target yield 0.5 < P < 1; --allocate needs it")

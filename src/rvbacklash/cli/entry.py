@@ -17,6 +17,7 @@ import rvbacklash.cli.allocation  # noqa: F401  (sensitivity, allocate)
 import rvbacklash.cli.hysteresis  # noqa: F401  (hysteresis)
 import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 import rvbacklash.cli.transmission  # noqa: F401  (transmission-error)
+import rvbacklash.cli.workbench  # noqa: F401  (app: the workbench in the browser)
 from rvbacklash.cli.app import app
 from rvbacklash.interrupt import EXIT_CODE, stop_was_requested
 

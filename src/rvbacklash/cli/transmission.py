@@ -88,19 +88,3 @@ SPEC_TE_OPTION = typer.Option(None, "--spec-te-arcsec",
                               help="Spec of the transmission error's peak-to-peak over one output revolution "
                                    "(upper limit) [arcsec]; turns --model contact into --model transmission (the "
                                    "contact model's units through a full revolution; docs/transmission-error.md).")
-
-
-def te_model_and_specs(model: str, spec_te_arcsec: Optional[float], specs: dict) -> tuple[str, dict]:
-    """--spec-te-arcsec: checked before any work; with --model contact the run becomes the
-    transmission model's (the same units, turned through a revolution)."""
-    import math
-
-    from rvbacklash.errors import InputError
-
-    if spec_te_arcsec is None:
-        return model, specs
-    if model not in ("contact", "transmission"):
-        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed with --model contact or transmission only")
-    if not (math.isfinite(spec_te_arcsec) and spec_te_arcsec > 0):
-        raise InputError("spec_te_arcsec", spec_te_arcsec, "allowed: a finite number > 0 [arcsec]")
-    return "transmission", {**specs, "transmission_error": spec_te_arcsec}

@@ -1,0 +1,277 @@
+"""The workbench's JSON endpoints and its page (docs/workbench.md lists them with their bodies).
+
+Every endpoint runs the API the command line runs and renders its result with the same function
+(``render_json(result.to_dict())``): ``POST /api/simulate`` answers exactly what ``rvbacklash
+simulate --json`` writes for the same design, model, samples, seed and specs. Bad input is one
+line (``{"error": "<field> = <value>: <allowed>", "field": ...}``, HTTP 422), as the command line
+prints it; a body larger than ``MAX_BODY_BYTES`` is refused (413) before it is read whole.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib.util
+import json
+from collections import OrderedDict
+from importlib import resources
+from pathlib import Path
+from threading import Lock
+from typing import Any, Callable
+
+from starlette.applications import Starlette
+from starlette.middleware import Middleware
+from starlette.middleware.trustedhost import TrustedHostMiddleware
+from starlette.requests import Request
+from starlette.responses import FileResponse, JSONResponse, Response
+from starlette.routing import Mount, Route
+from starlette.staticfiles import StaticFiles
+
+import rvbacklash.api as api
+from rvbacklash.app.designs import MODELS, DesignCache, EditedDesign, controls
+from rvbacklash.app.jobs import Cancelled, Job, Jobs
+from rvbacklash.app.requests import (MAX_BODY_BYTES, MAX_SAMPLES, BodyTooLarge, check_fields, choice, number_or_none,
+                                     read_body, simulation_inputs, whole)
+from rvbacklash.design.loading import available_examples
+from rvbacklash.errors import InputError
+from rvbacklash.report.files import render_csv, render_json
+
+
+class Results:
+    """The last rendered results by their inputs: going back to an earlier input answers at once
+    (same inputs, same seed: the same numbers)."""
+
+    def __init__(self, size: int = 16):
+        self._items: OrderedDict[str, str] = OrderedDict()
+        self._size, self._lock = size, Lock()
+
+    def get(self, key: str) -> str | None:
+        with self._lock:
+            if key in self._items:
+                self._items.move_to_end(key)
+            return self._items.get(key)
+
+    def put(self, key: str, value: str) -> None:
+        with self._lock:
+            self._items[key] = value
+            while len(self._items) > self._size:
+                self._items.popitem(last=False)
+
+
+def plotly_js() -> Path:
+    """plotly.min.js as the plotly wheel ships it (served from the installed package: no CDN)."""
+    spec = importlib.util.find_spec("plotly")
+    if spec is None or not spec.submodule_search_locations:
+        raise RuntimeError("the plotly package is missing: pip install plotly")
+    return Path(next(iter(spec.submodule_search_locations))) / "package_data" / "plotly.min.js"
+
+
+def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
+               allowed_hosts: list[str] | None = None, warm: bool = False) -> Starlette:
+    """The workbench as an ASGI application. ``initial_design``: the example name or TOML text
+    the page opens with; ``allowed_hosts``: the Host headers accepted (None: any; the server
+    gives the loopback names when it listens on loopback, against DNS rebinding); ``warm``: load
+    the models' kernels in the background at start-up."""
+    designs, results, jobs = DesignCache(), Results(), Jobs()
+
+    def error(e: Exception, status: int = 422, **extra) -> JSONResponse:
+        return JSONResponse({"error": str(e), **extra}, status_code=status)
+
+    def endpoint(fields: set[str] | None = None):
+        """A POST handler: body read and checked, bad input as one line, superseded as 409."""
+
+        def wrap(fn):
+            async def handler(request: Request) -> Response:
+                body: dict = {}
+                try:
+                    body = await read_body(request)
+                    if fields is not None:
+                        check_fields(body, fields)
+                    response = await fn(body)
+                except BodyTooLarge as e:
+                    return JSONResponse({"error": f"body = {e.args[0]} bytes: allowed: at most {MAX_BODY_BYTES} bytes"},
+                                        status_code=413)
+                except InputError as e:
+                    response = error(e, field=e.field)
+                except Cancelled as e:
+                    response = JSONResponse({"error": f"request {e.job.id}: {e.job.reason}", "superseded": True},
+                                            status_code=409)
+                if "request_id" in body:
+                    response.headers["X-Request-Id"] = str(body["request_id"])[:100]
+                return response
+            return handler
+        return wrap
+
+    def design_of(body: dict) -> EditedDesign:
+        return designs.get(body.get("design"), body.get("edits"), body.get("origin"))
+
+    async def run(body: dict, compute: Callable[[Job], Any], pool: str = "live", total: int | None = None):
+        _, value = await jobs.run(compute, job_id=body.get("request_id"), channel=body.get("channel"), pool=pool,
+                                  total=total)
+        return value
+
+    @endpoint({"format"})
+    async def design(body: dict) -> Response:
+        item = await run(body, lambda job: design_of(body), pool="design")
+        if body.get("format") == "toml":
+            return Response(item.text, media_type="application/toml")
+        return JSONResponse(controls(item))
+
+    @endpoint()
+    async def simulate(body: dict) -> Response:
+        inputs = simulation_inputs(body)
+        fmt = choice(body, "format", "json", ("json", "csv"))
+
+        def compute(job: Job) -> str:
+            item = design_of(body)
+            key = json.dumps([item.text, inputs, fmt], sort_keys=True)
+            cached = results.get(key)
+            if cached is not None:
+                return cached
+            result = api.simulate(item.problem, progress=job.progress, **inputs)
+            text = render_json(result.to_dict()) if fmt == "json" else render_csv(result.rows())
+            if not result.partial:
+                results.put(key, text)
+            return text
+
+        text = await run(body, compute, total=inputs["samples"])
+        return Response(text, media_type="application/json" if fmt == "json" else "text/csv")
+
+    def rendered(result) -> Response:
+        return Response(render_json(result.to_dict()), media_type="application/json")
+
+    @endpoint({"points"})
+    async def hysteresis(body: dict) -> Response:
+        points = whole(body, "points", 41, 5, 1001)
+        return rendered(await run(body, lambda job: api.hysteresis(design_of(body).problem, points=points),
+                                  pool="figures"))
+
+    @endpoint({"samples", "seed"})
+    async def elastic_section(body: dict) -> Response:
+        n = whole(body, "samples", 2000, 20, 100_000)
+        seed = whole(body, "seed", 0, 0, 2**63 - 1)
+        return rendered(await run(body, lambda job: api.elastic_section(design_of(body).problem, samples=n, seed=seed),
+                                  pool="figures"))
+
+    @endpoint({"positions", "load_direction"})
+    async def transmission_error(body: dict) -> Response:
+        positions = whole(body, "positions", 1024, 1, 1 << 16)
+        direction = choice(body, "load_direction", "ccw", ("ccw", "cw"))
+        return rendered(await run(body, lambda job: api.transmission_error(
+            design_of(body).problem, positions=positions, load_direction=direction), pool="figures"))
+
+    @endpoint({"model", "output", "samples", "seed"})
+    async def sensitivity(body: dict) -> Response:
+        model = choice(body, "model", "linear", MODELS)
+        n = whole(body, "samples", api.SENSITIVITY_SAMPLES, 2, 1 << 20)
+        seed = whole(body, "seed", 0, 0, 2**63 - 1)
+        output = body.get("output")
+        def compute(job: Job):
+            problem = design_of(body).problem
+            job.total = n * (int(problem.random_mask.sum()) + 2)  # model runs, as the command line counts them
+            return api.sensitivity(problem, model=model, output=output, samples=n, seed=seed, progress=job.progress)
+
+        return rendered(await run(body, compute, pool="demand"))
+
+    @endpoint({"model", "spec_arcmin", "yield", "spec_rigidity_nm_per_arcmin", "spec_preload_um", "spec_te_arcsec",
+               "samples", "seed"})
+    async def allocate(body: dict) -> Response:
+        model = choice(body, "model", "linear", MODELS)
+        spec = number_or_none(body, "spec_arcmin")
+        target = number_or_none(body, "yield")
+        if spec is None or target is None:
+            raise InputError("spec_arcmin" if spec is None else "yield", allowed="allowed: a number; an allocation "
+                                                                                 "needs spec_arcmin and yield")
+        kwargs = {"spec_rigidity_nm_per_arcmin": number_or_none(body, "spec_rigidity_nm_per_arcmin"),
+                  "spec_preload_um": number_or_none(body, "spec_preload_um"),
+                  "spec_te_arcsec": number_or_none(body, "spec_te_arcsec"),
+                  "samples": whole(body, "samples", api.ALLOCATION_SAMPLES, 1, MAX_SAMPLES),
+                  "seed": whole(body, "seed", 0, 0, 2**63 - 1)}
+        if model == "linear":
+            kwargs.pop("samples")
+        return rendered(await run(body, lambda job: api.allocate(
+            design_of(body).problem, spec_arcmin=spec, yield_target=target, model=model, progress=job.progress,
+            **kwargs), pool="demand", total=None if model == "linear" else 200))
+
+    @endpoint()
+    async def report(body: dict) -> Response:
+        from rvbacklash.report.html import render_html
+
+        inputs = simulation_inputs(body)
+        if choice(body, "format", "html", ("html",)) != "html":  # pragma: no cover - one format
+            raise InputError("format", body["format"], "allowed: html")
+        te = inputs["specs"].pop("transmission_error", None)
+
+        def compute(job: Job) -> str:
+            data = api.make_report(design_of(body).problem, samples=inputs["samples"], seed=inputs["seed"],
+                                   method=inputs["method"], spec_arcmin=inputs["spec_arcmin"],
+                                   specs=inputs["specs"] or None, model=inputs["model"], spec_te_arcsec=te,
+                                   progress=job.progress)
+            return render_html(data)
+
+        html = await run(body, compute, pool="demand", total=inputs["samples"])
+        return Response(html, media_type="text/html",
+                        headers={"Content-Disposition": 'attachment; filename="report.html"'})
+
+    @endpoint({"id"})
+    async def cancel(body: dict) -> Response:
+        job = jobs.cancel(str(body.get("id")))
+        if job is None:
+            raise InputError("id", body.get("id"), "allowed: the id of a running job")
+        return JSONResponse(job.to_dict())
+
+    async def progress(request: Request) -> Response:
+        job = jobs.get(request.query_params.get("id", ""))
+        if job is None:
+            return JSONResponse({"error": f"id = {request.query_params.get('id')!r}: allowed: a known job id"},
+                                status_code=404)
+        return JSONResponse(job.to_dict())
+
+    async def status(request: Request) -> Response:
+        return JSONResponse({"active_jobs": jobs.active(), "examples": list(available_examples())})
+
+    async def initial(request: Request) -> Response:
+        return JSONResponse({"design": initial_design, "origin": initial_origin})
+
+    async def index(request: Request) -> Response:
+        return Response(resources.files("rvbacklash.app").joinpath("static/index.html").read_text(encoding="utf-8"),
+                        media_type="text/html")
+
+    async def favicon(request: Request) -> Response:
+        return Response(status_code=204)
+
+    async def plotly(request: Request) -> Response:
+        return FileResponse(plotly_js(), media_type="text/javascript")
+
+    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
+             "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
+             "report": report, "cancel": cancel}
+    routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),
+              Route("/api/progress", progress), Route("/static/plotly.min.js", plotly),
+              Route("/favicon.ico", favicon),
+              *(Route(f"/api/{name}", fn, methods=["POST"]) for name, fn in posts.items()),
+              Mount("/static", StaticFiles(packages=[("rvbacklash.app", "static")]))]
+    middleware = [Middleware(TrustedHostMiddleware, allowed_hosts=allowed_hosts)] if allowed_hosts else []
+    def warm_up() -> None:
+        """Load the kernels of every model the first design runs (numba's cache: seconds, the first
+        time ever a minute) before the first change asks for them."""
+        try:
+            item = designs.get(initial_design, None, initial_origin)
+            for m in controls(item)["models"]:
+                if jobs.stopping.is_set():  # Ctrl-C during the warm-up: stop between models
+                    return
+                api.simulate(item.problem, model=m, samples=256, seed=0)
+            if item.problem.design.elastic is not None and not jobs.stopping.is_set():
+                api.hysteresis(item.problem)
+        except Exception:  # the page reports a bad design itself; a warm-up never stops the server
+            pass
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app):
+        if warm:
+            jobs.background(warm_up)
+        yield
+        jobs.shutdown()  # every job cancelled, the worker threads joined
+
+    application = Starlette(routes=routes, middleware=middleware, lifespan=lifespan)
+    application.state.jobs = jobs
+    return application

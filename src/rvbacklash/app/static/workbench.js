@@ -1,0 +1,486 @@
+// The workbench page: every control edits the request, every figure comes from a JSON endpoint
+// (docs/workbench.md). The newest change wins: each request carries an id, and a response whose id
+// is not the newest one's is never shown (the server also cancels the older computation).
+"use strict";
+
+const UNITS = { arcmin: "arcmin", nm_per_arcmin: "N·m/arcmin", um: "µm", arcsec: "arcsec" };
+const TITLES = { backlash: "Backlash", lost_motion: "Lost motion", rigidity: "Torsional rigidity",
+                 preload: "Preload", transmission_error: "TE peak-to-peak",
+                 lost_motion_max: "Largest rigid lost motion over a revolution" };
+// the specs each model reads: request key -> label (the command line's --spec-... flags)
+const SPECS = {
+  linear: { arcmin: "backlash ≤ [arcmin]" },
+  contact: { arcmin: "backlash ≤ [arcmin]", preload_um: "preload ≤ [µm]", te_arcsec: "TE p-p ≤ [arcsec]" },
+  elastic: { lost_motion_arcmin: "lost motion ≤ [arcmin]", rigidity_nm_per_arcmin: "rigidity ≥ [N·m/arcmin]",
+             preload_um: "preload ≤ [µm]" },
+  transmission: { arcmin: "backlash ≤ [arcmin]", te_arcsec: "TE p-p ≤ [arcsec]" },
+};
+const PAGE = "page-" + Math.random().toString(36).slice(2, 10);  // this page's channels
+
+const state = {
+  design: null, origin: null, edits: {}, controls: null,
+  // each model's own specs (a TE spec would turn the contact model into the transmission model)
+  specs: { linear: { arcmin: 3 }, contact: { arcmin: 3 }, elastic: { lost_motion_arcmin: 1.5, rigidity_nm_per_arcmin: 450 },
+           transmission: { arcmin: 3, te_arcsec: 60 } },
+  seq: 0, demandSeq: 0, shown: 0, lastJson: null, demandId: null, demandTimer: null,
+};
+window.workbench = state;  // for scripts and the browser test
+
+const $ = (sel) => document.querySelector(sel);
+const el = (tag, attrs = {}, ...children) => {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === "class") e.className = v; else if (k === "text") e.textContent = v;
+    else if (k.startsWith("data-")) e.setAttribute(k, v); else e[k] = v;
+  }
+  for (const c of children) e.append(c);
+  return e;
+};
+
+async function post(path, body) {
+  const r = await fetch(path, { method: "POST", headers: { "Content-Type": "application/json" },
+                                body: JSON.stringify(body) });
+  return r;
+}
+async function errorOf(r) {
+  try { return await r.json(); } catch (e) { return { error: `HTTP ${r.status}` }; }
+}
+
+function fmt(x, digits = 4) {
+  if (x === null || x === undefined || !isFinite(x)) return "–";
+  const a = Math.abs(x);
+  if (a >= 1000) return x.toFixed(1);
+  if (a >= 100) return x.toFixed(2);
+  return x.toFixed(digits);
+}
+const pct = (x) => (x === null || x === undefined) ? "–" : (100 * x).toFixed(2) + " %";
+
+// --- requests -------------------------------------------------------------------------------
+
+function model() { return $("#model").value; }
+function specsForModel() {
+  const out = {};
+  const mine = state.specs[model()] || {};
+  for (const key of Object.keys(SPECS[model()] || {})) {
+    const v = mine[key];
+    if (v !== null && v !== undefined && v !== "") out[key] = v;
+  }
+  return out;
+}
+function numberOf(input) {
+  const t = input.value.trim();
+  if (t === "") return null;
+  const v = Number(t);
+  return Number.isFinite(v) ? v : t;  // a non-number goes as it is: the server names it
+}
+function baseBody() {
+  return { design: state.design, origin: state.origin, edits: state.edits };
+}
+function runBody() {
+  return { ...baseBody(), model: model(), samples: numberOf($("#samples")), seed: numberOf($("#seed")),
+           specs: specsForModel() };
+}
+
+// --- errors next to their control --------------------------------------------------------------
+
+function clearErrors() {
+  document.querySelectorAll("[data-field]").forEach((e) => e.classList.remove("invalid"));
+  document.querySelectorAll("[data-field] .err, #design-error, #run-error").forEach((e) => { e.textContent = ""; });
+}
+function showError(field, message) {
+  // the control whose field is the error's field or holds it (factors.x for factors.x.lower_um)
+  let best = null;
+  document.querySelectorAll("[data-field]").forEach((e) => {
+    const f = e.dataset.field;
+    if ((field === f || field.startsWith(f + ".") || f.startsWith(field + ".")) &&
+        (!best || f.length > best.dataset.field.length) && e.querySelector(".err")) best = e;
+  });
+  if (best) {
+    best.classList.add("invalid");
+    best.querySelector(".err").textContent = message;
+  } else {
+    $("#run-error").textContent = message;
+  }
+}
+
+// --- the controls of a design ------------------------------------------------------------------
+
+function fieldRow(field, label, input) {
+  return el("div", { class: "row", "data-field": field }, el("label", {}, label, input), el("span", { class: "err" }));
+}
+
+function buildSpecs() {
+  const box = $("#specs");
+  box.replaceChildren();
+  for (const [key, label] of Object.entries(SPECS[model()] || {})) {
+    const mine = state.specs[model()];
+    const input = el("input", { type: "number", step: "any", id: "spec-" + key, value: mine[key] ?? "" });
+    input.addEventListener("change", () => { mine[key] = numberOf(input); update(); });
+    box.append(fieldRow("specs." + key, label, input));
+  }
+}
+
+function buildControls(c) {
+  state.controls = c;
+  $("#design-name").textContent = `${c.name} (${c.origin})`;
+  const models = $("#model"), current = models.value;
+  models.replaceChildren(...c.models.map((m) => el("option", { value: m, text: m })));
+  models.value = c.models.includes(current) ? current : (c.models.includes("elastic") ? "elastic" : "linear");
+  buildSpecs();
+  const grades = $("#grades");
+  grades.replaceChildren();
+  if (!c.grades) grades.append(el("p", { class: "note", text: "This design gives every zone explicitly (no [grades])." }));
+  else for (const stage of ["involute", "cycloid", "crank"]) {
+    const select = el("select", { id: "grade-" + stage });
+    select.append(el("option", { value: "", text: "–" }));
+    for (let g = c.grades.range[0]; g <= c.grades.range[1]; g++) select.append(el("option", { value: String(g), text: String(g) }));
+    select.value = c.grades[stage] === null ? "" : String(c.grades[stage]);
+    select.addEventListener("change", () => {
+      state.edits["grades." + stage] = select.value === "" ? null : Number(select.value);
+      update();
+    });
+    grades.append(fieldRow("grades." + stage, stage + (stage === "crank" ? " (ISO 286 IT)" : " (ISO 1328-1)"), select));
+  }
+  const mods = $("#modifications");
+  mods.replaceChildren();
+  for (const [path, value] of Object.entries(c.modifications)) {
+    const input = el("input", { type: "number", step: "any", value: value });
+    input.addEventListener("change", () => { state.edits[path] = numberOf(input); update(); });
+    const name = path.split(".")[1].replace("_modification_um", "").replace("_", " ");
+    mods.append(fieldRow(path, name, input));
+  }
+  const body = $("#factors tbody");
+  body.replaceChildren();
+  for (const f of c.factors) {
+    const lo = el("input", { type: "number", step: "any", value: +f.lower_um.toFixed(3), id: `zone-${f.key}-lower` });
+    const hi = el("input", { type: "number", step: "any", value: +f.upper_um.toFixed(3), id: `zone-${f.key}-upper` });
+    const set = () => {
+      state.edits[`factors.${f.key}.plus_minus_um`] = null;
+      state.edits[`factors.${f.key}.lower_um`] = numberOf(lo);
+      state.edits[`factors.${f.key}.upper_um`] = numberOf(hi);
+      update();
+    };
+    lo.addEventListener("change", set);
+    hi.addEventListener("change", set);
+    const row = el("tr", { class: f.explicit ? "explicit" : "", "data-field": "factors." + f.key },
+      el("td", { class: "name" }, `${f.id}. ${f.name}`, el("span", { class: "origin", text: f.origin, title: f.origin }),
+         el("span", { class: "err" })),
+      el("td", {}, lo), el("td", {}, hi));
+    body.append(row);
+  }
+}
+
+function refreshZones(c) {
+  // the resolved zones after a grade change (inputs the user is in are left alone)
+  for (const f of c.factors) {
+    const row = document.querySelector(`tr[data-field="factors.${f.key}"]`);
+    if (!row) continue;
+    row.className = f.explicit ? "explicit" : "";
+    row.querySelector(".origin").textContent = f.origin;
+    row.querySelector(".origin").title = f.origin;
+    for (const [side, v] of [["lower", f.lower_um], ["upper", f.upper_um]]) {
+      const input = $(`#zone-${f.key}-${side}`);
+      if (input && document.activeElement !== input) input.value = +v.toFixed(3);
+    }
+  }
+}
+
+// --- the figures -----------------------------------------------------------------------------
+
+function tailOf(o) {
+  const table = (o.quantiles && o.quantiles.table) || [];
+  const p = o.spec_is_upper === false ? 0.00135 : 0.99865;
+  return table.find((q) => Math.abs(q.probability - p) < 1e-9) || null;
+}
+
+function card(name, o) {
+  const unit = UNITS[o.unit] || o.unit;
+  const tail = tailOf(o);
+  const dl = el("dl");
+  const item = (label, key, value, text, ci) => {
+    dl.append(el("dt", { text: label }));
+    const dd = el("dd");
+    const v = el("span", { "data-key": key, "data-value": String(value), text });
+    dd.append(v);
+    if (ci) dd.append(el("span", { class: "ci", text: " " + ci }));
+    dl.append(dd);
+  };
+  item("σ", `${name}.sigma`, o.sigma, fmt(o.sigma));
+  if (tail) item(`${(100 * tail.probability).toFixed(3)} % tail`, `${name}.tail`, tail.value, fmt(tail.value),
+                 `[${fmt(tail.ci95_low)}, ${fmt(tail.ci95_high)}]`);
+  const c = el("div", { class: "card", "data-output": name },
+    el("h3", { text: `${TITLES[name] || name} [${unit}]`, title: o.description }),
+    el("div", {}, el("span", { class: "big", "data-key": `${name}.mean`, "data-value": String(o.mean), text: fmt(o.mean) }),
+       el("span", { class: "ci", text: ` mean [${fmt(o.mean_ci95_low)}, ${fmt(o.mean_ci95_high)}]` })),
+    dl);
+  if (o.yield) {
+    const y = o.yield;
+    c.append(el("div", { class: "yieldline" },
+      el("span", { text: `yield (${o.spec_is_upper ? "≤" : "≥"} ${o.spec_limit}) ` }),
+      el("b", { "data-key": `${name}.yield`, "data-value": String(y.fraction), text: pct(y.fraction) }),
+      el("span", { class: "ci", text: ` [${pct(y.ci95_low)}, ${pct(y.ci95_high)}]` })));
+  }
+  return c;
+}
+
+function renderSimulation(data) {
+  const cards = $("#cards");
+  cards.replaceChildren();
+  const names = Object.keys(data.outputs);
+  const j = data.joint_yield;
+  if (j && typeof j === "object" && j.fraction !== undefined) {
+    cards.append(el("div", { class: "card yield" }, el("h3", { text: "All specs at once (joint yield)" }),
+      el("div", {}, el("span", { class: "big", "data-key": "joint.yield", "data-value": String(j.fraction),
+                                  text: pct(j.fraction) })),
+      el("div", { class: "ci", text: `95 % interval [${pct(j.ci95_low)}, ${pct(j.ci95_high)}]` })));
+  }
+  for (const name of names) cards.append(card(name, data.outputs[name]));
+  const hist = $("#histograms");
+  const keep = new Set(names.map((n) => "hist-" + n));
+  [...hist.children].forEach((c) => { if (!keep.has(c.id)) { Plotly.purge(c); c.remove(); } });
+  for (const name of names) {
+    const o = data.outputs[name];
+    let div = document.getElementById("hist-" + name);
+    if (!div) { div = el("div", { id: "hist-" + name, class: "fig" }); hist.append(div); }
+    const e = o.histogram.edges, x = [], w = [];
+    for (let i = 0; i + 1 < e.length; i++) { x.push(0.5 * (e[i] + e[i + 1])); w.push(e[i + 1] - e[i]); }
+    const unit = UNITS[o.unit] || o.unit;
+    const shapes = [];
+    if (o.spec_limit !== null && o.spec_limit !== undefined)
+      shapes.push({ type: "line", x0: o.spec_limit, x1: o.spec_limit, yref: "paper", y0: 0, y1: 1,
+                    line: { color: "#b3261e", width: 2, dash: "dash" } });
+    Plotly.react(div, [{ type: "bar", x, y: o.histogram.counts, width: w, marker: { color: "#4c78a8" },
+                         hovertemplate: "%{x:.4g}: %{y} units<extra></extra>" }],
+      { title: { text: `${TITLES[name] || name}: ${o.samples} units`, font: { size: 13 } }, height: 280,
+        margin: { l: 50, r: 10, t: 36, b: 40 }, xaxis: { title: { text: `[${unit}]` } }, yaxis: { title: { text: "units" } },
+        shapes, bargap: 0, annotations: shapes.length ? [{ x: o.spec_limit, yref: "paper", y: 1, text: "spec",
+        showarrow: false, font: { color: "#b3261e" }, xanchor: "left" }] : [] },
+      { displayModeBar: false, responsive: true });
+  }
+}
+
+function loopTrace(unit, name, style) {
+  // one closed loop: the four branches joined (load+, unload+, load-, unload-)
+  const x = [], y = [];
+  for (const b of unit.loop) { x.push(...b.angle_arcmin, null); y.push(...b.torque_nm, null); }
+  return { type: "scatter", mode: "lines", name, x, y, line: style };
+}
+
+function renderLoop(section) {
+  const h = section.nominal;
+  const traces = [loopTrace(h, `nominal: ${fmt(h.lost_motion_arcmin, 3)} arcmin`, { color: "#1d2733", width: 2.5 })];
+  const colours = ["#2f9e44", "#e8590c", "#1864ab", "#9c36b5"];
+  Object.entries(section.quantile_units || {}).forEach(([q, u], i) =>
+    traces.push(loopTrace(u, `${q} unit: ${fmt(u.lost_motion_arcmin, 3)} arcmin`, { color: colours[i % 4], dash: "dash" })));
+  Plotly.react($("#fig-loop"), traces, {
+    title: { text: `nominal unit: lost motion ${fmt(h.lost_motion_arcmin)} arcmin, backlash ${fmt(h.backlash_arcmin)} arcmin, ` +
+                   `rigidity ${fmt(h.torsional_rigidity_nm_per_arcmin)} N·m/arcmin; beside it the units at the 5 % and ` +
+                   `95 % quantiles of lost motion (of 2000)`, font: { size: 12 } },
+    height: 340, margin: { l: 60, r: 10, t: 40, b: 45 },
+    xaxis: { title: { text: "output angle [arcmin]" } }, yaxis: { title: { text: "torque [N·m]" } } },
+    { displayModeBar: false, responsive: true });
+  const rows = Object.keys(h.compliance_share).filter((k) => h.compliance_share[k] > 0 || h.lost_motion_share_arcmin[k] > 0);
+  const t = el("table", { class: "plain" }, el("tr", {}, ...["element", "lost motion [arcmin]", "share of compliance"].map((s) => el("th", { text: s }))));
+  for (const k of rows) t.append(el("tr", {}, el("td", { text: k.replace(/_/g, " ") }),
+    el("td", { text: fmt(h.lost_motion_share_arcmin[k]) }), el("td", { text: pct(h.compliance_share[k]) })));
+  $("#loop-shares").replaceChildren(t);
+}
+
+function renderTe(t) {
+  Plotly.react($("#fig-te"), [
+    { type: "scatter", mode: "lines", name: "TE ccw [arcsec]", x: t.output_angle_deg, y: t.te_ccw_arcsec },
+    { type: "scatter", mode: "lines", name: "TE cw [arcsec]", x: t.output_angle_deg, y: t.te_cw_arcsec },
+    { type: "scatter", mode: "lines", name: "lost motion [arcmin]", x: t.output_angle_deg, y: t.lost_motion_arcmin, yaxis: "y2" }],
+    { title: { text: `TE p-p ${fmt(t.te_peak_to_peak_arcsec, 2)} arcsec (${t.unit})`, font: { size: 13 } }, height: 330,
+      margin: { l: 55, r: 55, t: 36, b: 90 }, xaxis: { title: { text: "output angle [deg]" } },
+      yaxis: { title: { text: "[arcsec]" } }, yaxis2: { title: { text: "[arcmin]" }, overlaying: "y", side: "right" },
+      legend: { orientation: "h", y: -0.3 } }, { displayModeBar: false, responsive: true });
+  const amp = t.spectrum_amplitude_arcsec;
+  Plotly.react($("#fig-spectrum"), [{ type: "bar", x: amp.map((_, i) => i), y: amp, marker: { color: "#4c78a8" } }],
+    { title: { text: "spectrum (orders per output revolution)", font: { size: 13 } }, height: 330,
+      margin: { l: 55, r: 10, t: 36, b: 90 }, xaxis: { title: { text: "order" }, range: [0, Math.min(amp.length, 170)] },
+      yaxis: { title: { text: "amplitude [arcsec]" } } }, { displayModeBar: false, responsive: true });
+}
+
+// --- the live loop: a change, its run, its figures --------------------------------------------
+
+function setStatus(text, kind) { const s = $("#status"); s.textContent = text; s.className = kind; }
+
+async function update() {
+  const id = ++state.seq;
+  const started = performance.now();
+  setStatus("computing…", "busy");
+  const body = { ...runBody(), request_id: id, channel: PAGE + "-simulate" };
+  let r;
+  try { r = await post("/api/simulate", body); } catch (e) { if (id === state.seq) setStatus(String(e), "bad"); return; }
+  if (id !== state.seq || r.headers.get("X-Request-Id") !== String(id)) return;  // a newer change is under way
+  if (r.status === 409) return;
+  clearErrors();
+  if (!r.ok) {
+    const err = await errorOf(r);
+    if (id !== state.seq) return;
+    showError(err.field || "", err.error);
+    $("#results").classList.add("stale");  // the last valid figures stay, greyed
+    setStatus("invalid input: the figures shown are the last valid ones", "bad");
+    return;
+  }
+  const text = await r.text();
+  if (id !== state.seq) return;
+  const data = JSON.parse(text);
+  state.lastJson = text;
+  renderSimulation(data);
+  state.shown = id;
+  $("#results").classList.remove("stale");
+  setStatus(`${data.design_name}: ${data.model} model, ${data.samples_done} units, seed ${data.seed}`, "ok");
+  $("#timing").textContent = `change → cards ${(performance.now() - started).toFixed(0)} ms (run ${(1000 * data.elapsed_s).toFixed(0)} ms)`;
+  document.body.dataset.shown = String(id);
+  secondary(id);
+}
+
+async function secondary(id) {
+  // the zones after the change, the nominal loop (elastic), the nominal TE (transmission)
+  post("/api/design", { ...baseBody(), request_id: id, channel: PAGE + "-design" }).then(async (r) => {
+    if (r.ok && id === state.seq) refreshZones(await r.json());
+  });
+  const m = model();
+  $("#loop-section").hidden = m !== "elastic";
+  $("#te-section").hidden = m !== "transmission";
+  const figure = async (path, extra, box, render) => {
+    const r = await post(path, { ...baseBody(), ...extra, request_id: id, channel: PAGE + path });
+    if (id !== state.seq || r.status === 409) return;
+    if (!r.ok) { $(box).textContent = (await errorOf(r)).error; return; }
+    $(box).textContent = "";
+    render(await r.json());
+  };
+  if (m === "elastic") figure("/api/elastic-section", { samples: 2000, seed: numberOf($("#seed")) }, "#loop-error", renderLoop);
+  if (m === "transmission") figure("/api/transmission-error", {}, "#te-error", renderTe);
+}
+
+// --- on demand: Sobol, allocation, report; progress and cancel ---------------------------------
+
+function startProgress(id) {
+  state.demandId = id;
+  $("#progress-row").hidden = false;
+  $("#progress").removeAttribute("value");
+  $("#progress-text").textContent = "starting…";
+  $("#demand-error").textContent = "";
+  clearInterval(state.demandTimer);
+  state.demandTimer = setInterval(async () => {
+    const r = await fetch("/api/progress?id=" + encodeURIComponent(id));
+    if (!r.ok) return;
+    const j = await r.json();
+    if (j.total) { $("#progress").max = j.total; $("#progress").value = j.done; }
+    $("#progress-text").textContent = `${j.state}${j.total ? `: ${j.done} of ${j.total}` : ""}`;
+  }, 300);
+}
+function endProgress() { clearInterval(state.demandTimer); $("#progress-row").hidden = true; state.demandId = null; }
+
+async function onDemand(path, body, done) {
+  const id = `${PAGE}-${path.split("/").pop()}-${++state.demandSeq}`;  // not the live changes' counter
+  startProgress(id);
+  const r = await post(path, { ...baseBody(), ...body, request_id: id, channel: PAGE + "-demand" });
+  if (state.demandId !== id) return;
+  endProgress();
+  if (r.status === 409) { $("#demand-error").textContent = "cancelled"; return; }
+  if (!r.ok) { $("#demand-error").textContent = (await errorOf(r)).error; return; }
+  await done(r);
+}
+
+function renderSobol(s) {
+  const g = [...s.groups].sort((a, b) => a.total - b.total);
+  const div = $("#fig-sobol");
+  div.hidden = false;
+  Plotly.react(div, [
+    { type: "bar", orientation: "h", name: "first order", y: g.map((x) => x.input), x: g.map((x) => x.first),
+      error_x: { type: "data", symmetric: false, array: g.map((x) => x.first_ci95_high - x.first),
+                 arrayminus: g.map((x) => x.first - x.first_ci95_low) } },
+    { type: "bar", orientation: "h", name: "total", y: g.map((x) => x.input), x: g.map((x) => x.total) }],
+    { title: { text: `What to tighten: Sobol indices of ${s.output} (${s.model} model, N = ${s.samples})`, font: { size: 13 } },
+      barmode: "group", height: 120 + 26 * g.length, margin: { l: 190, r: 10, t: 36, b: 40 } },
+    { displayModeBar: false, responsive: true });
+}
+
+function renderAllocation(a) {
+  const t = el("table", { class: "plain" }, el("tr", {}, el("th", { text: "part group" }), el("th", { text: "grade" })));
+  for (const [group, grade] of Object.entries(a.grades)) t.append(el("tr", {}, el("td", { text: group.replace(/_/g, " ") }), el("td", { text: String(grade) })));
+  $("#allocation").replaceChildren(
+    el("p", { text: `Cheapest grades for ${a.binding.constraint} (${a.model} model): cost ${fmt(a.cost, 2)} ` +
+                    `against ${fmt(a.baseline.cost, 2)} for uniform grade ${a.baseline.grade}; yield ${pct(a.yield.fraction)}.` }), t);
+}
+
+function download(name, blob) {
+  const a = el("a", { href: URL.createObjectURL(blob), download: name });
+  document.body.append(a); a.click(); a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+// --- start ------------------------------------------------------------------------------------
+
+async function loadDesign(design, origin, edits = {}) {
+  const r = await post("/api/design", { design, origin, edits });
+  if (!r.ok) {  // refused with the one line the command line gives; the current design stays
+    $("#design-error").textContent = (await errorOf(r)).error;
+    return false;
+  }
+  Object.assign(state, { design, origin, edits });
+  $("#design-error").textContent = "";
+  buildControls(await r.json());
+  await update();
+  return true;
+}
+
+async function start() {
+  const init = await (await fetch("/api/initial")).json();
+  const status = await (await fetch("/api/status")).json();
+  const ex = $("#example");
+  ex.replaceChildren(...status.examples.map((n) => el("option", { value: n, text: n })));
+  if (!status.examples.includes(init.design)) ex.prepend(el("option", { value: "", text: init.origin || "(given design)" }));
+  ex.value = status.examples.includes(init.design) ? init.design : "";
+  ex.addEventListener("change", () => { if (ex.value) loadDesign(ex.value, null); });
+  $("#upload").addEventListener("change", async (e) => {
+    const file = e.target.files[0];
+    if (!file) return;
+    if (await loadDesign(await file.text(), file.name)) {
+      ex.prepend(el("option", { value: "", text: file.name }));
+      ex.value = "";
+    }
+    e.target.value = "";
+  });
+  document.body.addEventListener("dragover", (e) => e.preventDefault());
+  document.body.addEventListener("drop", async (e) => {
+    e.preventDefault();
+    const file = e.dataTransfer.files[0];
+    if (file && await loadDesign(await file.text(), file.name)) ex.value = "";
+  });
+  $("#model").addEventListener("change", () => { buildSpecs(); update(); });
+  $("#samples").addEventListener("change", update);
+  $("#seed").addEventListener("change", update);
+  $("#run-sobol").addEventListener("click", () => onDemand("/api/sensitivity",
+    { model: model() === "transmission" ? "contact" : model(), samples: numberOf($("#sobol-n")), seed: numberOf($("#seed")) },
+    async (r) => renderSobol(await r.json())));
+  $("#run-allocate").addEventListener("click", () => {
+    const m = $("#alloc-model").value;
+    const spec = m === "elastic" ? state.specs.elastic.lost_motion_arcmin : (state.specs[m].arcmin ?? 3);
+    onDemand("/api/allocate", { model: m, spec_arcmin: spec, yield: numberOf($("#alloc-yield")),
+                                samples: m === "linear" ? undefined : 2000, seed: numberOf($("#seed")) },
+             async (r) => renderAllocation(await r.json()));
+  });
+  $("#run-report").addEventListener("click", () => onDemand("/api/report", runBody(),
+    async (r) => download("report.html", await r.blob())));
+  $("#cancel").addEventListener("click", () => { if (state.demandId) post("/api/cancel", { id: state.demandId }); });
+  $("#dl-design").addEventListener("click", async () => {
+    const r = await post("/api/design", { ...baseBody(), format: "toml" });
+    if (r.ok) download(`${state.controls ? state.controls.name : "design"}.toml`, await r.blob());
+    else showError((await errorOf(r)).field || "", (await errorOf(r)).error);
+  });
+  $("#dl-json").addEventListener("click", () => {
+    if (state.lastJson) download("simulate.json", new Blob([state.lastJson], { type: "application/json" }));
+  });
+  $("#dl-csv").addEventListener("click", async () => {
+    const r = await post("/api/simulate", { ...runBody(), format: "csv" });
+    if (r.ok) download("simulate.csv", await r.blob());
+  });
+  await loadDesign(init.design, init.origin);
+}
+
+start();

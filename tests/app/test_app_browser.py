@@ -1,0 +1,96 @@
+"""The workbench in a real browser (Debian's chromium, as the report's browser test): the page
+loads with nothing but the workbench to talk to, changing a grade moves the lost-motion yield to
+what `rvbacklash simulate` gives for the edited (downloaded) design, and an invalid zone shows its
+one-line message next to the control while the last valid figures stay, greyed."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from helpers import run_cli
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+SAMPLES = 2000
+LOST_MOTION = '[data-key="lost_motion.yield"]'
+
+
+def shown(page) -> str:
+    return page.evaluate("document.body.dataset.shown || ''")
+
+
+def after_change(page, act) -> None:
+    """Do ``act`` and wait until the page shows the result of that change (or its error)."""
+    before = page.evaluate("window.workbench.seq")
+    act()
+    page.wait_for_function(f"window.workbench.seq > {before} && (document.body.dataset.shown == "
+                           f"String(window.workbench.seq) || document.querySelector('#status').className == 'bad')",
+                           timeout=120_000)
+
+
+def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
+    if os.environ.get("RVBACKLASH_SKIP_BROWSER") == "1":
+        pytest.skip("RVBACKLASH_SKIP_BROWSER=1")
+    assert Path(CHROMIUM).exists(), "chromium missing: run tools/ensure-chromium (make test does)"
+    from playwright.sync_api import sync_playwright
+
+    url = workbench_server.url
+    elsewhere: list[str] = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        context = browser.new_context(viewport={"width": 1400, "height": 1100}, accept_downloads=True)
+        page = context.new_page()
+        problems: list[str] = []
+        page.on("console", lambda m: problems.append(m.text) if m.type in ("error", "warning") else None)
+        page.on("pageerror", lambda e: problems.append(str(e)))
+
+        def offline(route):  # the network is off: only the workbench answers
+            if route.request.url.startswith(url):
+                route.continue_()
+            else:
+                elsewhere.append(route.request.url)
+                route.abort()
+        page.route("**/*", offline)
+        page.goto(url + "/")
+        page.wait_for_function("document.body.dataset.shown", timeout=180_000)
+        assert page.evaluate("typeof Plotly") == "object"  # plotly from the package
+        assert page.input_value("#model") == "elastic"
+        after_change(page, lambda: (page.fill("#samples", str(SAMPLES)), page.dispatch_event("#samples", "change")))
+        before = float(page.get_attribute(LOST_MOTION, "data-value"))
+
+        after_change(page, lambda: page.select_option("#grade-cycloid", "3"))
+        after = float(page.get_attribute(LOST_MOTION, "data-value"))
+        joint = float(page.get_attribute('[data-key="joint.yield"]', "data-value"))
+        assert after != before
+        with page.expect_download() as download:
+            page.click("#dl-design")
+        design = tmp_path / "edited.toml"
+        download.value.save_as(design)
+        page.screenshot(path=str(tmp_path / "workbench.png"))
+
+        zone = "#zone-pin_hole_clearance-lower"
+        after_change(page, lambda: (page.fill(zone, "1000"), page.dispatch_event(zone, "change")))
+        message = page.inner_text('tr[data-field="factors.pin_hole_clearance"] .err')
+        still = float(page.get_attribute(LOST_MOTION, "data-value"))
+        greyed = "stale" in page.get_attribute("#results", "class")
+        browser.close()
+    # chromium logs every 4xx answer; the invalid zone's 422 (and a superseded run's 409) are expected
+    assert [m for m in problems if not re.search(r"status of (422|409)", m)] == [] and elsewhere == []
+    # the yield the page shows is the command line's for the design the page downloads
+    assert "cycloid = 3" in design.read_text() and "# An RV-80E-class design" in design.read_text()
+    cli = run_cli("simulate", design, "--model", "elastic", "-n", SAMPLES, "--seed", 1, "--spec-lost-motion-arcmin",
+                  1.5, "--spec-rigidity-nm-per-arcmin", 450, "--json", "-")
+    assert cli.returncode == 0, cli.stderr
+    data = json.loads(cli.stdout)
+    assert after == data["outputs"]["lost_motion"]["yield"]["fraction"]
+    assert joint == data["joint_yield"]["fraction"]
+    # an invalid zone: its one line beside it; the last valid figures kept, greyed
+    assert message.startswith("factors.pin_hole_clearance: lower_um = 1000.0 > upper_um = ") and "\n" not in message
+    assert still == after and greyed
