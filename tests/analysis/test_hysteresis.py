@@ -175,3 +175,20 @@ def test_saved_units_have_the_contact_models_format(problem):
     assert len(r.units) == 3
     real, linear, stage = r.units[0]
     assert linear > 0 and math.isfinite(stage) and real.pin_radial_um.shape == (40,)
+
+
+def test_assumptions_say_what_the_model_has(rv80e):
+    # the text follows the model: FE bodies and seats for rv80e; rigid discs and pillars without their fields
+    from rvbacklash.analysis.hysteresis import hysteresis
+    from rvbacklash.problem import prepare
+
+    full = hysteresis(prepare(rv80e)).assumptions
+    assert "disc bodies by plane-stress finite elements" in full and "3-D finite-element body" in full
+    assert "pins' seats" in full and "disc bodies rigid" not in full
+    st = rv80e.structure.model_copy(update={name: None for name in (
+        "disc_pillar_hole_diameter_mm", "disc_pillar_hole_radius_mm", "disc_centre_hole_diameter_mm",
+        "carrier_flange_thickness_mm", "carrier_end_plate_thickness_mm", "carrier_outer_diameter_mm",
+        "carrier_bore_diameter_mm", "support_bearing_seat_diameter_mm")})
+    bare = hysteresis(prepare(rv80e.model_copy(update={"structure": st, "elastic": rv80e.elastic.model_copy(
+        update={"pin_seating": "none"})}))).assumptions
+    assert "disc bodies rigid" in bare and "clamped beams in rigid plates" in bare and "seats" not in bare

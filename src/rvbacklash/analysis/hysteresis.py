@@ -43,13 +43,30 @@ ASSUMPTIONS = (
     "input locked, housing fixed; the elastic chain in series: cycloid pins (Hertz line contacts, both discs on one "
     "rotation), crank needle bearings (tangential load, radial clearance as a dead band), involute mesh (dead band + "
     "stiffness), stated structure stiffnesses; disc and crank-bearing deflections referred to the output by the lever "
-    "factor; Coulomb friction at the output in parallel; rigid discs, housing and crankshafts unless stated "
-    "(docs/elastic.md)")
+    "factor; Coulomb friction at the output in parallel; the housing rigid (its ring < 0.5 %), the rest rigid unless "
+    "[structure] or a stated stiffness says otherwise (docs/elastic.md)")
+ASSUMPTIONS_SEATS = "; the pins' seats in the housing grooves (conforming line contacts in series with the flanks)"
 ASSUMPTIONS_STRUCTURE = (
     "; the whole torque path from [structure]: crankshafts (beams with shear between their support bearings, "
     "torsion to the planet gear), tapered-roller support bearings (roller load zone, clearance as a dead band), "
-    "carrier pillars (clamped beams), the discs' sideways motion on their needle bearings ({translation}); main "
-    "bearings unloaded by a pure torque; disc bodies, housing, plates and joints rigid")
+    "{carrier}, the discs' sideways motion on their needle bearings ({translation}), {discs}; main bearings unloaded "
+    "by a pure torque; joints rigid")
+CARRIER_FE = ("the carrier (output flange, pillars, end plate) as one 3-D finite-element body held at the flange's "
+              "outer face")
+CARRIER_BEAMS = "carrier pillars (clamped beams in rigid plates)"
+DISCS_FE = ("the disc bodies by plane-stress finite elements (designed unit's pin forces at the top of the rigidity "
+            "interval, bores on the needle bearings' secant stiffness)")
+DISCS_RIGID = "the disc bodies rigid"
+
+
+def structure_assumptions(model: ElasticModel) -> str:
+    """What the assumptions say of the seats and the [structure] table's elements, as the model has them."""
+    out = ASSUMPTIONS_SEATS if model.chain.seat_a > 0.0 else ""
+    if model.structure is not None:
+        out += ASSUMPTIONS_STRUCTURE.format(carrier=CARRIER_FE if model.carrier_body is not None else CARRIER_BEAMS,
+                                            translation=model.structure.disc_translation,
+                                            discs=DISCS_FE if model.disc_body is not None else DISCS_RIGID)
+    return out
 
 
 def profile_assumptions(model: ElasticModel) -> str:
@@ -249,8 +266,7 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         crank_clearance_um=float(unit.crank_clearance_um),
         involute_backlash_arcmin=float(max(unit.involute_backlash_rad, 0.0) * ARCMIN_PER_RAD),
         crank_angle_deg=float(math.degrees(unit.chi_rad)),
-        assumptions=ASSUMPTIONS + (ASSUMPTIONS_STRUCTURE.format(translation=model.structure.disc_translation)
-                                   if model.structure is not None else "") + profile_assumptions(model), loop=loop,
+        assumptions=ASSUMPTIONS + structure_assumptions(model) + profile_assumptions(model), loop=loop,
         pin_forces_at_rated_n=forces)
 
 
