@@ -537,7 +537,7 @@ def _explaining(problem, model: str, output: str, samples: int, seed: int) -> tu
     """The factor groups whose total Sobol index is at least a third of the largest (at most 3)."""
     from rvbacklash.analysis.sensitivity_global import global_sensitivity
 
-    s = global_sensitivity(problem, model=model, output=output, samples=samples, seed=seed, resamples=0)
+    s = global_sensitivity(problem, model=model, output=output, samples=samples, seed=seed, resamples=100)
     ranked = sorted(s.groups, key=lambda g: -g.total)
     top = ranked[0].total if ranked else 0.0
     return tuple(g.input for g in ranked[:3] if top > 0 and g.total >= top / 3)

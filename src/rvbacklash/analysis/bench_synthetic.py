@@ -37,7 +37,9 @@ def model_loop_samples(problem: Problem, *, cycles: int = 2, samples_per_branch:
     tr = problem.design.elastic.rated_torque_nm
     centre = 0.5 * (pu.branch(0.0, FALL).sum() + pu.branch(0.0, RISE).sum())
     n = 4 * cycles * samples_per_branch
-    phase = np.sort(rng.uniform(0, 1, n)) if uneven else (np.arange(n) + 0.5) / n
+    ends = np.arange(4 * cycles + 1) / (4 * cycles)  # the turning points and zero crossings: a bench records them
+    phase = np.unique(np.concatenate([rng.uniform(0, 1, n - ends.size), ends])) if uneven else np.linspace(0, 1, n + 1)
+    n = phase.size
     phase = start_fraction / cycles + phase * (1.0 - start_fraction / cycles)  # one cycle = 1 / cycles of phase
     time = phase * 4.0 * cycles  # [s]
     u = np.mod(time, 4.0)  # 0-1 load+, 1-2 unload+, 2-3 load-, 3-4 unload-
