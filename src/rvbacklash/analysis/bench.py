@@ -23,9 +23,10 @@ A hysteresis file (torque, output angle, maybe time; design/bench_files.py) goes
    standard deviation from its fit, propagated linearly through the reader to each figure.
 
 A TE file (output angle and TE, or output and input angle with the ratio) is averaged onto
-TE_POSITIONS equal steps of an output revolution (samples binned by position, periodic
-interpolation of empty bins), its peak-to-peak and its spectrum by order read as the model's
-(``analysis.transmission.amplitude_spectrum``).
+TE_POSITIONS equal steps of an output revolution (samples binned by position, the bins' means at
+their centres, periodic interpolation of empty bins), its peak-to-peak and its spectrum by order
+read as the model's (``analysis.transmission.amplitude_spectrum``; each order divided by the
+bins' own averaging, sinc(m / N)).
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ class BenchLoop(Result):
     hysteresis_loss_j: float
     uncertainty_k2: dict[str, float]  # expanded uncertainty (k = 2, ~95 %) of each figure from the data's noise
     samples: int
-    cycles: int  # complete cycles (both stretches between turning points)
+    cycles: int  # peaks of each sign (the fewer): cycles whose turning points the file holds
     branch_stretches: dict[str, int]  # stretches found per branch, partial ones included
     noise_arcmin: float  # sigma of the samples about the local fits
     drift_arcmin_per_s: float | None  # removed; per sample when the file has no time column; None: not estimated
@@ -321,7 +322,7 @@ def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring
         notes.append("drift not estimated (fewer than two torque peaks of one sign)")
     else:
         angle = angle - drift * (time - time[0])
-    cycles = min(sum(1 for s in stretches if s[3] and s[2] > 0), sum(1 for s in stretches if s[3] and s[2] < 0))
+    cycles = min(sum(torque[k] > 0 for k in turns), sum(torque[k] < 0 for k in turns))  # a peak of each sign
     half = WINDOW_FRACTION * tr
     secant_torques = tuple(f * tr for iv in SECANT_INTERVALS for f in iv)
     specs = (("load+", 0.0, tr, (x, lo * tr, hi * tr, *secant_torques)), ("unload+", tr, 0.0, (x,)),
@@ -419,11 +420,11 @@ def read_te(table: BenchTable, ratio: float | None = None, positions: int = TE_P
     have = counts > 0
     mean = np.interp(centre, centre[have], sums[have] / counts[have], period=360.0)
     noise = float(np.std(te - mean[bins]))
-    # the curve on the equal steps of the revolution (positions at the bins' starts: theta_k = 360 k / N)
-    grid = np.arange(positions) * 360.0 / positions
-    curve = np.interp(grid, centre, mean, period=360.0)
-    curve = curve - curve.mean()
-    spec = amplitude_spectrum(curve)
+    # the curve on the equal steps of the revolution: the bins' centres
+    grid = centre
+    curve = mean - mean.mean()
+    # a bin's mean of cos(m theta) is sinc(m / N) times its value at the centre: undone per order
+    spec = amplitude_spectrum(curve) / np.sinc(np.arange(positions // 2 + 1) / positions)
     floor = max(SPECTRUM_FLOOR_ARCSEC, 5.0 * float(np.median(spec[1:])))
     lead = [int(k) for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1 if spec[k] > floor]
     notes = list(table.notes)
