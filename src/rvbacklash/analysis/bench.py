@@ -69,6 +69,7 @@ class Placement(Result):
     predicted_q95: float
     predicted_q99865: float
     explaining_factors: tuple[str, ...]  # the factor groups whose total Sobol index dominates (flagged units only)
+    beyond_every_predicted_unit: bool  # no tolerance reaches it: a model input is off (calibrate), or the unit
 
 
 @dataclass(frozen=True, repr=False)
@@ -577,7 +578,8 @@ def place(problem, units: Sequence, *, samples: int = 2000, seed: int = 0, sobol
                                      else ("transmission", "transmission_error"))
                     sobol_cache[fig] = _explaining(problem, model, output, sobol_samples, seed)
                 factors = sobol_cache[fig]
-            rows.append(Placement(fig, float(value), float(pct), outside, *(float(v) for v in q), factors))
+            beyond = bool(value < p.min() or value > p.max())
+            rows.append(Placement(fig, float(value), float(pct), outside, *(float(v) for v in q), factors, beyond))
         out.append(_with_placement(u, tuple(rows)))
     return out, predicted
 

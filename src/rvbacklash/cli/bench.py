@@ -64,6 +64,8 @@ def print_bench(result, console) -> None:
             for p in u.placement:
                 flag = ("OUTSIDE 0.135-99.865 %" + (f": look at {', '.join(p.explaining_factors)}"
                                                     if p.explaining_factors else "")) if p.outside else ""
+                if p.beyond_every_predicted_unit:
+                    flag += " (beyond every predicted unit: rather a model input, e.g. the structure; calibrate)"
                 t.add_row(escape(u.source), p.figure, f"{p.measured:.4g}", f"{p.percentile:.1f} %",
                           f"{p.predicted_q05:.4g} .. {p.predicted_q95:.4g}", escape(flag))
         console.print(t)

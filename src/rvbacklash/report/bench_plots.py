@@ -48,7 +48,7 @@ def draw_loops(fig, ax, zx, units: Sequence[BenchLoop], nominal=None, others: Se
         label = (f"{u.source}: lost motion {u.lost_motion_arcmin:.3f} ± {u.uncertainty_k2['lost_motion_arcmin']:.3f}, "
                  f"backlash {u.backlash_arcmin:.3f} arcmin, rigidity {u.torsional_rigidity_nm_per_arcmin:.0f} N·m/arcmin")
         for a in (ax, zx):
-            a.plot(u.angle_arcmin, u.torque_nm, ".", ms=1.2, color=color, alpha=0.35)
+            a.plot(u.angle_arcmin, u.torque_nm, ".", ms=1.2, color=color, alpha=0.35, rasterized=True)
             for i, br in enumerate(u.loop):
                 a.plot(br.angle_arcmin, br.torque_nm, "-", color=color, lw=1.1,
                        label=label if i == 0 and a is ax else None)
@@ -133,6 +133,7 @@ def calibration_figure(cal):
     for k, u in enumerate(units):
         for a in (ax, zx):
             a.plot(u.angle_arcmin, u.torque_nm, ".", ms=1.2, color=UNIT_COLORS[k % len(UNIT_COLORS)], alpha=0.35,
+                   rasterized=True,
                    label=f"measured: {u.source}" if a is ax else None)
     for r, color, ls, what in ((cal.before_loop, GREY, "--", "before (the design)"),
                                (cal.after_loop, RED, "-", "after (calibrated)")):
