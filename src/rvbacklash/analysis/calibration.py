@@ -51,8 +51,8 @@ from rvbacklash.units import ARCMIN_PER_RAD
 
 PARAMETERS = ("structure_stiffness_nm_per_arcmin", "friction_torque_nm", "crank_clearance_offset_um")
 IDENTIFIABLE_CONDITION = 1e6  # of the Jacobian scaled to unit columns: beyond, a parameter is a combination of the others
-MODEL_POINTS = 81  # loop nodes per branch the samples are interpolated on
-DENSE_NODES = np.linspace(0.0, 0.12, 31)[1:]  # and these fractions of T_R on every branch
+MODEL_POINTS = 41  # loop nodes per branch the samples are interpolated on
+DENSE_NODES = np.linspace(0.0, 0.12, 21)[1:]  # and these fractions of T_R on every branch
 RIGID_NM_PER_ARCMIN = 1e9  # the schema's largest stated stiffness: the structure as good as rigid
 
 
