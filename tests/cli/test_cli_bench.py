@@ -113,6 +113,10 @@ def as_text(rows, header=GOOD):
      "column 'angle [arcmin]': rows 22-26: 5 missing or NaN cells"),
     ("single branch", as_text([r for r in loop_rows() if r[0] < 0.5]), "found load+ only (missing unload+, load-"),
     ("torque short of T_R", as_text(loop_rows(top=500.0)), "column 'torque [N m]': load+ reaches 49"),
+    ("no torque, no te", "time [s],angle [deg]\n0,1\n", "column 'torque' or 'te': missing"),
+    ("no angle", "torque [N m],time [s]\n0,1\n", "column 'angle': missing"),
+    ("TE with a gap", "output angle [deg],te [arcsec]\n" + "".join(f"{k * 0.5},{k % 7}\n" for k in range(600)),
+     "column 'output angle [deg]': the samples span 299.5 deg"),
 ])
 def test_bad_bench_data_is_one_line_naming_file_and_column(tmp_path, case, text, fragment):
     f = tmp_path / "bad.csv"

@@ -15,6 +15,7 @@ from rvbacklash.cli.common import (DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, QUI
 TORQUE_UNIT = typer.Option(None, "--torque-unit", help="Unit of a torque column whose header has none: N m, kN m.")
 ANGLE_UNIT = typer.Option(None, "--angle-unit", help="Unit of angle columns whose header has none: arcmin, arcsec, "
                                                      "deg, rad, mrad, urad.")
+LOOP_FIGURES = ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin")
 TIME_UNIT = typer.Option(None, "--time-unit", help="Unit of a time column whose header has none: s, ms, min.")
 
 
@@ -65,7 +66,9 @@ def print_bench(result, console) -> None:
                 flag = ("OUTSIDE 0.135-99.865 %" + (f": look at {', '.join(p.explaining_factors)}"
                                                     if p.explaining_factors else "")) if p.outside else ""
                 if p.beyond_every_predicted_unit:
-                    flag += " (beyond every predicted unit: rather a model input, e.g. the structure; calibrate)"
+                    flag += (" (beyond every predicted unit: a model input, e.g. the structure - calibrate - or a "
+                             "part far out of its tolerance)" if p.figure in LOOP_FIGURES else
+                             " (beyond every predicted unit: a part far out of its tolerance, or a model input)")
                 t.add_row(escape(u.source), p.figure, f"{p.measured:.4g}", f"{p.percentile:.1f} %",
                           f"{p.predicted_q05:.4g} .. {p.predicted_q95:.4g}", escape(flag))
         console.print(t)

@@ -127,8 +127,9 @@ def read_bench_table(path: str | Path, units: Mapping[str, str | None] | None = 
             raise InputError(f"{where}: column '{role}'", allowed=f"missing; allowed: a header with "
                                                                   f"{' and '.join(need)} columns and their units")
     if kind == "te" and "te" not in roles and "input_angle" not in roles:
-        raise InputError(f"{where}: column 'te'", allowed="missing; allowed: output angle with te, or output and "
-                                                          "input angle (with --ratio)")
+        raise InputError(f"{where}: column 'torque' or 'te'", allowed="missing; allowed: torque and angle columns (a "
+                                                                      "hysteresis loop), or output angle with te or "
+                                                                      "with input angle (a TE curve)")
     if not body:
         raise InputError(where, allowed="a header and no data rows; allowed: rows of numbers below the header")
     values = {role: np.full(len(body), np.nan) for role in roles}
