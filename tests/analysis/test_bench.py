@@ -4,7 +4,6 @@ is read back within the reported uncertainty; a TE curve of known orders gives t
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest

@@ -39,7 +39,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from rvbacklash.analysis.hysteresis import HysteresisBranch, RigiditySecant
-from rvbacklash.analysis.loop_reading import (BRANCHES, SECANT_INTERVALS, as_branches, loop_figures, secant_key)
+from rvbacklash.analysis.loop_reading import BRANCHES, SECANT_INTERVALS, loop_figures, secant_key
 from rvbacklash.analysis.transmission import SPECTRUM_FLOOR_ARCSEC, SpectralLine, amplitude_spectrum
 from rvbacklash.design.bench_files import BenchTable, read_bench_table
 from rvbacklash.errors import InputError
@@ -115,7 +115,8 @@ class BenchLoop(Result):
         u = self.uncertainty_k2
         return [f"{self.source}: lost motion {self.lost_motion_arcmin:.4f} ± {u['lost_motion_arcmin']:.4f} arcmin, "
                 f"backlash {self.backlash_arcmin:.4f} ± {u['backlash_arcmin']:.4f} arcmin, rigidity "
-                f"{self.torsional_rigidity_nm_per_arcmin:.1f} ± {u['torsional_rigidity_nm_per_arcmin']:.1f} N m/arcmin",
+                f"{self.torsional_rigidity_nm_per_arcmin:.1f} ± {u['torsional_rigidity_nm_per_arcmin']:.1f} "
+                f"N m/arcmin",
                 f"{self.cycles} cycles, {self.samples} samples, noise {self.noise_arcmin:.4f} arcmin"]
 
 
@@ -208,7 +209,7 @@ def _stretches(torque: np.ndarray, turns: list[int]) -> list[tuple[int, int, int
         if b <= a:
             continue
         direction = 1 if torque[b] > torque[a] else -1
-        out.append((a, b if k == len(bounds) - 2 else b, direction, 0 < k < len(bounds) - 2))
+        out.append((a, b, direction, 0 < k < len(bounds) - 2))
     return out
 
 
@@ -344,7 +345,8 @@ def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring
             residuals.append(fit[2])
         fitted[name] = (nodes, np.array(values), np.array(factors))
     r = np.concatenate(residuals)  # each fit took 3 degrees of freedom of its samples
-    noise = float(1.4826 * np.median(np.abs(r - np.median(r))) * math.sqrt(r.size / max(r.size - 3 * len(residuals), 1)))
+    dof = max(r.size - 3 * len(residuals), 1)
+    noise = float(1.4826 * np.median(np.abs(r - np.median(r))) * math.sqrt(r.size / dof))
     # load branches start where the branch they continue ends (the jump is no function of torque)
     for load, before in (("load+", "unload-"), ("load-", "unload+")):
         n, v, f = fitted[load]
@@ -588,8 +590,3 @@ def _with_placement(u, rows):
     import dataclasses
 
     return dataclasses.replace(u, placement=rows)
-
-
-def branches_of(result) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """The loop of a BenchLoop or a HysteresisResult as {branch: (torque, angle)}."""
-    return as_branches(result.loop)

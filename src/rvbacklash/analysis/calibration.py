@@ -22,10 +22,11 @@ offset per unit (a nuisance: the bench's zero). Samples of the loading branches 
 band's jump (|T| < x T_R) are left out: there the angle is no function of torque. Confidence
 intervals: 95 % from the Jacobian (forward differences at the solution), cov = s^2 (J^T J)^-1
 with s^2 the residual variance, cut at the bounds (friction and clearance >= 0); from three units
-on, the bootstrap over units' standard deviation where it is the larger. Not identifiable, an InputError naming the parameter: a
-column of the scaled Jacobian (nearly) a combination of the others (condition number >
-IDENTIFIABLE_CONDITION), or a structure stiffness that runs off to rigid or whose standard error
-exceeds half its value (a loop of a stiff structure says only "stiffer than this").
+on, the bootstrap over units' standard deviation where it is the larger. Not identifiable, an
+InputError naming the parameter: a column of the scaled Jacobian (nearly) a combination of the
+others (condition number > IDENTIFIABLE_CONDITION), or a structure stiffness that runs off to
+rigid or whose standard error exceeds half its value (a loop of a stiff structure says only
+"stiffer than this").
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
 PARAMETERS = ("structure_stiffness_nm_per_arcmin", "friction_torque_nm", "crank_clearance_offset_um")
-IDENTIFIABLE_CONDITION = 1e6  # of the Jacobian scaled to unit columns: beyond, a parameter is a combination of the others
+IDENTIFIABLE_CONDITION = 1e6  # of the Jacobian scaled to unit columns: beyond, a parameter is the others' combination
 MODEL_POINTS = 41  # loop nodes per branch the samples are interpolated on
 DENSE_NODES = np.linspace(0.0, 0.12, 21)[1:]  # and these fractions of T_R on every branch
 RIGID_NM_PER_ARCMIN = 1e9  # the schema's largest stated stiffness: the structure as good as rigid

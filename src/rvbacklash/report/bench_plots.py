@@ -46,7 +46,8 @@ def draw_loops(fig, ax, zx, units: Sequence[BenchLoop], nominal=None, others: Se
     for k, u in enumerate(units):
         color = UNIT_COLORS[k % len(UNIT_COLORS)]
         label = (f"{u.source}: lost motion {u.lost_motion_arcmin:.3f} ± {u.uncertainty_k2['lost_motion_arcmin']:.3f}, "
-                 f"backlash {u.backlash_arcmin:.3f} arcmin, rigidity {u.torsional_rigidity_nm_per_arcmin:.0f} N·m/arcmin")
+                 f"backlash {u.backlash_arcmin:.3f} arcmin, rigidity {u.torsional_rigidity_nm_per_arcmin:.0f} "
+                 f"N·m/arcmin")
         for a in (ax, zx):
             a.plot(u.angle_arcmin, u.torque_nm, ".", ms=1.2, color=color, alpha=0.35, rasterized=True)
             for i, br in enumerate(u.loop):
