@@ -70,7 +70,7 @@ def draw_loops(fig, ax, zx, units: Sequence[BenchLoop], nominal=None, others: Se
         a.grid(alpha=0.3)
         a.set_xlabel("output angle [arcmin]")
     ax.set_ylabel("output torque [N·m]")
-    ax.set_title(title or f"measured loops, T_R = {u0.rated_torque_nm:g} N·m: ○ lost-motion readings at "
+    ax.set_title(title or f"measured loops, T_R = {u0.rated_torque_nm:g} N·m\n○ lost-motion readings at "
                           f"±{u0.measuring_torque_fraction * 100:g} % T_R, ■ backlash, -- rigidity secant",
                  fontsize=9)
     zx.set_ylim(-5 * x, 5 * x)
