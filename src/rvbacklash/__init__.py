@@ -33,6 +33,8 @@ _EXPORTS = {
     "transmission_error": "rvbacklash.api",
     "elastic_section": "rvbacklash.api",
     "sweep": "rvbacklash.api",
+    "read_bench": "rvbacklash.api",
+    "calibrate": "rvbacklash.api",
     "plan_sweep": "rvbacklash.analysis.sweep",
     "load_sweep": "rvbacklash.analysis.sweep",
     "SweepResult": "rvbacklash.analysis.sweep",
@@ -57,6 +59,8 @@ _EXPORTS = {
     "AllocationResult": "rvbacklash.analysis.allocation",
     "HysteresisResult": "rvbacklash.analysis.hysteresis",
     "TransmissionErrorResult": "rvbacklash.analysis.transmission",
+    "BenchResult": "rvbacklash.analysis.bench",
+    "CalibrationResult": "rvbacklash.analysis.calibration",
     # the linear model as a function (n, 21) -> (n,)
     "LinearModel": "rvbacklash.models.linear",
     "linear_model": "rvbacklash.models.linear",

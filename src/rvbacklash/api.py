@@ -25,6 +25,8 @@ from rvbacklash.problem import prepare as _prepare
 # so that `analyze` and the command line start fast.
 if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
+    from rvbacklash.analysis.bench import BenchResult
+    from rvbacklash.analysis.calibration import CalibrationResult
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
@@ -388,3 +390,39 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
                          spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
                          executor=ex, workers=None, pareto=pareto, progress=progress)
+
+
+def read_bench(files, *, design: DesignLike | None = None, rated_torque_nm: float | None = None,
+               torque_unit: str | None = None, angle_unit: str | None = None, te_unit: str | None = None,
+               time_unit: str | None = None, ratio: float | None = None, samples: int = 2000,
+               seed: int = 0) -> BenchResult:
+    """Measured hysteresis loops and TE curves (docs/bench-data.md): each file (CSV/TSV, units in
+    the header or given here) one unit, read by the definitions the model's loops are read by,
+    with an expanded uncertainty (k = 2) from the data's noise. With ``design``: each figure as a
+    percentile of ``samples`` predicted units of its production run (elastic model for loops,
+    transmission model for TE: at most 200 units), a flag beyond 0.135-99.865 % with the factor
+    groups that dominate that figure (Sobol), and the batch's unit-to-unit spread against the
+    predicted one. ``rated_torque_nm``: default the design's, else the loop's peaks."""
+    from rvbacklash.analysis.bench import read_bench as _read_bench
+
+    problem = prepare(design) if design is not None else None
+    units = {"torque_unit": torque_unit, "angle_unit": angle_unit, "te_unit": te_unit, "time_unit": time_unit}
+    return _read_bench([files] if isinstance(files, (str, Path)) else list(files), problem,
+                       rated_torque_nm=rated_torque_nm, units=units, ratio=ratio, samples=samples, seed=seed)
+
+
+def calibrate(design: DesignLike, *, bench, torque_unit: str | None = None, angle_unit: str | None = None,
+              time_unit: str | None = None, bootstrap: int = 50, seed: int = 0, samples: int = 0,
+              max_evaluations: int = 200) -> CalibrationResult:
+    """Fit the structure's series stiffness, the friction torque and the crank bearings' clearance
+    offset of the design's nominal unit to measured loops (``bench``: one file or several, one unit
+    each) by least squares; 95 % confidence intervals from the Jacobian (bootstrap over units from
+    three units on, ``bootstrap`` resamples); ``result.design`` is the calibrated Design
+    (``rvbacklash.report.design_toml.design_toml`` writes it). ``samples`` > 0: the units' spread
+    against that many predicted units. docs/bench-data.md."""
+    from rvbacklash.analysis.calibration import calibrate as _calibrate
+
+    files = [bench] if isinstance(bench, (str, Path)) else list(bench)
+    units = {"torque_unit": torque_unit, "angle_unit": angle_unit, "time_unit": time_unit}
+    return _calibrate(prepare(design), files, units_flags=units, bootstrap=bootstrap, seed=seed, samples=samples,
+                      max_evaluations=max_evaluations)

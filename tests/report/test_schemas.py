@@ -32,7 +32,23 @@ def _outputs():
         "sweep": sweep,
         "transmission-error": rb.transmission_error(p, positions=400),
         "contact": rb.contact(p),
+        **_bench_outputs(p),
     }
+
+
+def _bench_outputs(p):
+    """A measured loop (the model's own, with noise) and TE curve, read and calibrated."""
+    import tempfile
+    from pathlib import Path
+
+    from rvbacklash.analysis.bench_synthetic import model_loop_samples, te_curve, write_loop_csv, write_te_csv
+
+    folder = Path(tempfile.mkdtemp())
+    loop = write_loop_csv(folder / "loop.csv", *model_loop_samples(p, cycles=1, samples_per_branch=60,
+                                                                   noise_arcmin=0.01, seed=1))
+    te = write_te_csv(folder / "te.tsv", *te_curve({1: 5.0, 40: 1.0}, samples=800, noise_arcsec=0.1))
+    return {"bench": rb.read_bench([loop, te], design=p, samples=200),
+            "calibrate": rb.calibrate(p, bench=loop, bootstrap=0)}
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +60,7 @@ def test_every_listed_output_has_a_schema():
     from rvbacklash.cli.commands import SchemaOutput
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
-                            "transmission-error", "contact"}
+                            "transmission-error", "contact", "bench", "calibrate"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 

@@ -24,6 +24,8 @@ import numpy as np
 
 from rvbacklash.analysis.contact import unit_realization
 from rvbacklash.design.measured import load_units
+from rvbacklash.analysis.loop_reading import (BRANCHES, SECANT_INTERVALS, as_branches,  # noqa: F401 (BRANCHES)
+                                              backlash_arcmin, lost_motion_arcmin, rigidity_nm_per_arcmin)
 from rvbacklash.errors import InputError
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.elastic import (BACKLASH, ELEMENT_LOST_MOTION, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE,
@@ -33,11 +35,6 @@ from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
-BRANCHES = ("load+", "unload+", "load-", "unload-")
-# The rigidity's secants every hysteresis result reports (fractions of T_R, both loading branches): the
-# catalogue's "b/a" has no torque points in any text we could read (docs/elastic.md), and makers
-# quote stiffness in torque regions, so a comparison says which one it uses (issue 28)
-SECANT_INTERVALS = ((0.0, 1.0), (0.03, 1.0), (0.5, 1.0))
 DEFAULT_POINTS = 41  # grid nodes per branch (the definition torques are added)
 ASSUMPTIONS = (
     "input locked, housing fixed; the elastic chain in series: cycloid pins (Hertz line contacts, both discs on one "
@@ -201,25 +198,13 @@ def build_loop(pu: PreparedUnit, points: int = DEFAULT_POINTS) -> tuple[tuple[Hy
 
 def loop_figures_from_branches(loop: Sequence[Mapping], rated_torque_nm: float, measuring_fraction: float,
                                interval: Sequence[float]) -> dict[str, float]:
-    """The three figures recomputed from a loop (e.g. the JSON's ``loop``), by the module's
-    definitions: each branch read at the first node with the torque asked for."""
-    by = {b["branch"]: (np.asarray(b["torque_nm"], float), np.asarray(b["angle_arcmin"], float)) for b in loop}
-
-    def at(name: str, torque: float) -> float:
-        t, a = by[name]
-        hit = np.nonzero(np.isclose(t, torque, rtol=1e-12, atol=1e-12 * rated_torque_nm))[0]
-        if hit.size == 0:
-            raise ValueError(f"branch {name} has no node at {torque} N m")
-        return float(a[hit[0]])
-
-    tr = rated_torque_nm
-    x = measuring_fraction * tr
-    lo, hi = interval[0] * tr, interval[1] * tr
-    lm = 0.5 * (at("load+", x) + at("unload+", x)) - 0.5 * (at("load-", -x) + at("unload-", -x))
-    bl = at("unload+", 0.0) - at("unload-", 0.0)
-    span = (at("load+", hi) - at("load+", lo)) + (at("load-", -lo) - at("load-", -hi))
-    return {"lost_motion_arcmin": lm, "backlash_arcmin": bl,
-            "torsional_rigidity_nm_per_arcmin": 2.0 * (hi - lo) / span if span > 0 else math.inf}
+    """The three figures recomputed from a loop (e.g. the JSON's ``loop``) by the one reader of
+    model and measured loops (``analysis.loop_reading``): each branch read at the first node with
+    the torque asked for (interpolated between nodes elsewhere)."""
+    b = as_branches(loop)
+    return {"lost_motion_arcmin": lost_motion_arcmin(b, rated_torque_nm, measuring_fraction),
+            "backlash_arcmin": backlash_arcmin(b),
+            "torsional_rigidity_nm_per_arcmin": rigidity_nm_per_arcmin(b, rated_torque_nm, *interval)}
 
 
 def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticUnit, label: str,

@@ -407,13 +407,15 @@ class SchemaOutput(str, Enum):
     sweep = "sweep"
     transmission_error = "transmission-error"
     contact = "contact"
+    bench = "bench"
+    calibrate = "calibrate"
 
 
 @app.command()
 @command
 def schema(output: Optional[SchemaOutput] = typer.Option(
         None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
-                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact); its "
+                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate); its "
                                "schema_version is in CHANGELOG.md.")
            ) -> None:
     """Print the JSON schema of the design file, or of a command's JSON output (--output)."""

@@ -30,6 +30,8 @@ FLAGS = {
     "spec_preload_um": "--spec-preload-um", "sweep_dir": "--sweep",
     "points": "--points", "positions": "--positions", "load_direction": "--load-direction",
     "spec_te_arcsec": "--spec-te-arcsec",
+    "rated_torque_nm": "--rated-torque-nm", "ratio": "--ratio", "bootstrap": "--bootstrap", "files": "FILE",
+    "torque_unit": "--torque-unit", "angle_unit": "--angle-unit", "te_unit": "--te-unit", "time_unit": "--time-unit",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 

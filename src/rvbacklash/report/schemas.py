@@ -23,6 +23,8 @@ import numpy as np
 
 from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.allocation import AllocationResult
+from rvbacklash.analysis.bench import BenchResult
+from rvbacklash.analysis.calibration import CalibrationResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
@@ -134,6 +136,11 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
     "transmission-error": (_result(TransmissionErrorResult),
                            "rvbacklash transmission-error --json: one unit's transmission error and rigid lost "
                            "motion over a full output revolution, its spectrum"),
+    "bench": (_result(BenchResult),
+              "rvbacklash bench --json: measured units (hysteresis loops, TE curves) read by the model's definitions, "
+              "each unit's figures under the hysteresis / transmission-error field names"),
+    "calibrate": (_result(CalibrationResult),
+                  "rvbacklash calibrate --json: the design's unknowns fitted to measured loops, with 95 % intervals"),
     "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
                           "exact cycloid-pin geometry"),
 }

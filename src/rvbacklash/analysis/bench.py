@@ -1,0 +1,592 @@
+"""Measured hysteresis loops and transmission-error curves (``rvbacklash bench``; docs/bench-data.md):
+from a bench file's samples to the test bench's figures, read by the same functions as the
+model's loops (``analysis.loop_reading``), with an uncertainty from the data's noise.
+
+A hysteresis file (torque, output angle, maybe time; design/bench_files.py) goes through:
+
+1. turning points: the zig-zag of the torque with a hysteresis threshold (TURN_FRACTION of the
+   torque's range): an extreme counts once the torque has moved back from it by more than the
+   threshold, so noise smaller than that never makes a branch (the smoothed sign change of dT);
+2. branches: a falling stretch (+peak to -peak) is unload+ while T >= 0 and load- below; a rising
+   one unload- below 0 and load+ from 0; several cycles, a start anywhere, partial stretches at
+   both ends all land in their branch;
+3. drift: the angle read at one torque near each peak (0.95 of the smallest peak of that sign, a
+   line through the arriving stretch's samples there) against time: a common slope for both
+   signs (least squares), removed from every sample; needs two such readings of one sign;
+4. averaging: each branch on a common torque grid (GRID_POINTS plus the definitions' torques):
+   at each node a local quadratic fit of angle against torque over +-WINDOW_FRACTION T_R (at least
+   MIN_FIT_POINTS samples) of every cycle's samples; load branches keep only their nodes beyond
+   the dead band (|T| >= x T_R) and start at the branch they continue (load+(0) = unload-(0)):
+   the jump through the dead bands is no function of torque;
+5. centring: the middle of the zero-torque width is 0 (as the model's loops);
+6. noise: sigma of the samples about the local fits (robust: 1.4826 MAD), each node's
+   standard deviation from its fit, propagated linearly through the reader to each figure.
+
+A TE file (output angle and TE, or output and input angle with the ratio) is averaged onto
+TE_POSITIONS equal steps of an output revolution (samples binned by position, the bins' means at
+their centres, periodic interpolation of empty bins), its peak-to-peak and its spectrum by order
+read as the model's (``analysis.transmission.amplitude_spectrum``; each order divided by the
+bins' own averaging, sinc(m / N)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from rvbacklash.analysis.hysteresis import HysteresisBranch, RigiditySecant
+from rvbacklash.analysis.loop_reading import BRANCHES, SECANT_INTERVALS, loop_figures, secant_key
+from rvbacklash.analysis.transmission import SPECTRUM_FLOOR_ARCSEC, SpectralLine, amplitude_spectrum
+from rvbacklash.design.bench_files import BenchTable, read_bench_table
+from rvbacklash.errors import InputError
+from rvbacklash.results import EXPORT, Result
+
+TURN_FRACTION = 0.2  # hysteresis threshold of the turning points, of the torque's range
+GRID_POINTS = 41  # nodes per branch (the definitions' torques are added)
+WINDOW_FRACTION = 0.01  # half-width of each node's local fit, of T_R
+MIN_FIT_POINTS = 8
+REACH_TOLERANCE = 0.02  # a branch reaches a torque if it comes within this fraction of T_R of it (fit extrapolates)
+TE_POSITIONS = 1024
+LEADING_ORDERS = 8
+FIGURES = ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin", "hysteresis_loss_j")
+
+
+@dataclass(frozen=True, repr=False)
+class Placement(Result):
+    """A measured figure in the design's predicted production run."""
+
+    figure: str  # the JSON field name of the figure
+    measured: float
+    percentile: float  # [%] of the predicted units at or below the measured value
+    outside: bool  # beyond the 0.135-99.865 % band
+    predicted_q00135: float
+    predicted_q05: float
+    predicted_median: float
+    predicted_q95: float
+    predicted_q99865: float
+    explaining_factors: tuple[str, ...]  # the factor groups whose total Sobol index dominates (flagged units only)
+    beyond_every_predicted_unit: bool  # no tolerance reaches it: a model input is off (calibrate), or the unit
+
+
+@dataclass(frozen=True, repr=False)
+class BenchLoop(Result):
+    """One unit's measured hysteresis loop read by the test bench's definitions."""
+
+    source: str
+    kind: str  # "hysteresis"
+    rated_torque_nm: float
+    rated_torque_from: str  # given | design | loop peaks
+    measuring_torque_fraction: float
+    rigidity_interval_fraction: tuple[float, float]
+    lost_motion_arcmin: float
+    backlash_arcmin: float
+    torsional_rigidity_nm_per_arcmin: float
+    rigidity_secants: tuple[RigiditySecant, ...]
+    hysteresis_loss_j: float
+    uncertainty_k2: dict[str, float]  # expanded uncertainty (k = 2, ~95 %) of each figure from the data's noise
+    samples: int
+    cycles: int  # peaks of each sign (the fewer): cycles whose turning points the file holds
+    branch_stretches: dict[str, int]  # stretches found per branch, partial ones included
+    noise_arcmin: float  # sigma of the samples about the local fits
+    drift_arcmin_per_s: float | None  # removed; per sample when the file has no time column; None: not estimated
+    drift_per: str  # s | sample
+    centring_offset_arcmin: float  # the angle subtracted: the middle of the zero-torque width
+    torque_peaks_nm: tuple[float, float]  # mean of the positive and negative peaks
+    notes: tuple[str, ...]
+    loop: tuple[HysteresisBranch, ...]  # the cycles averaged on the grid, centred
+    placement: tuple[Placement, ...] = ()
+    torque_nm: np.ndarray = field(default=None, metadata={EXPORT: False})  # samples, drift removed, centred
+    angle_arcmin: np.ndarray = field(default=None, metadata={EXPORT: False})
+    branch_index: np.ndarray = field(default=None, metadata={EXPORT: False})  # into BRANCHES
+    node_sigma_arcmin: dict = field(default=None, metadata={EXPORT: False})
+
+    def figures(self) -> dict[str, float]:
+        return {k: getattr(self, k) for k in FIGURES}
+
+    def rows(self) -> list[dict]:
+        return [{"source": self.source, "branch": b.branch, "torque_nm": t, "angle_arcmin": a}
+                for b in self.loop for t, a in zip(b.torque_nm, b.angle_arcmin)]
+
+    def summary(self) -> list[str]:
+        u = self.uncertainty_k2
+        return [f"{self.source}: lost motion {self.lost_motion_arcmin:.4f} ± {u['lost_motion_arcmin']:.4f} arcmin, "
+                f"backlash {self.backlash_arcmin:.4f} ± {u['backlash_arcmin']:.4f} arcmin, rigidity "
+                f"{self.torsional_rigidity_nm_per_arcmin:.1f} ± {u['torsional_rigidity_nm_per_arcmin']:.1f} "
+                f"N m/arcmin",
+                f"{self.cycles} cycles, {self.samples} samples, noise {self.noise_arcmin:.4f} arcmin"]
+
+
+@dataclass(frozen=True, repr=False)
+class BenchTransmissionError(Result):
+    """One unit's measured transmission-error curve over an output revolution."""
+
+    source: str
+    kind: str  # "transmission_error"
+    samples: int
+    revolutions: float  # output revolutions the samples span
+    positions: int
+    te_peak_to_peak_arcsec: float
+    te_min_arcsec: float
+    te_max_arcsec: float
+    noise_arcsec: float  # sigma of the samples about the averaged curve
+    spectrum_floor_arcsec: float  # lines below are not listed (noise floor: 5 x the spectrum's median line)
+    leading_orders: tuple[SpectralLine, ...]
+    notes: tuple[str, ...]
+    placement: tuple[Placement, ...] = ()
+    output_angle_deg: np.ndarray = field(default=None, metadata={EXPORT: True})
+    te_arcsec: np.ndarray = field(default=None, metadata={EXPORT: True})
+    spectrum_amplitude_arcsec: np.ndarray = field(default=None, metadata={EXPORT: True})
+
+    def figures(self) -> dict[str, float]:
+        return {"te_peak_to_peak_arcsec": self.te_peak_to_peak_arcsec}
+
+    def rows(self) -> list[dict]:
+        return [{"source": self.source, "output_angle_deg": float(a), "te_arcsec": float(t)}
+                for a, t in zip(self.output_angle_deg, self.te_arcsec)]
+
+    def summary(self) -> list[str]:
+        lines = ", ".join(f"{s.order}: {s.amplitude_arcsec:.2f}" for s in self.leading_orders[:5])
+        return [f"{self.source}: TE peak-to-peak {self.te_peak_to_peak_arcsec:.2f} arcsec over {self.revolutions:.2f} "
+                f"revolutions, noise {self.noise_arcsec:.2f} arcsec", f"leading orders [arcsec]: {lines or 'none'}"]
+
+
+@dataclass(frozen=True, repr=False)
+class BenchResult(Result):
+    """A batch of measured units (one file each), and with a design their place in its production run."""
+
+    design_name: str | None
+    samples_predicted: int  # units of the predicted production run (0: no design)
+    seed: int
+    units: tuple[BenchLoop | BenchTransmissionError, ...]
+    spread: dict[str, dict[str, float]]  # figure -> {"measured_sigma": .., "predicted_sigma": .. | None, "units": n}
+
+    def rows(self) -> list[dict]:
+        out = []
+        for u in self.units:
+            row = {"source": u.source, "kind": u.kind, **u.figures()}
+            if isinstance(u, BenchLoop):
+                row.update({f"{k}_u95": v for k, v in u.uncertainty_k2.items()})
+            for p in u.placement:
+                row[f"{p.figure}_percentile"] = p.percentile
+            out.append(row)
+        return out
+
+    def summary(self) -> list[str]:
+        return [line for u in self.units for line in u.summary()]
+
+
+# --- hysteresis loops ---------------------------------------------------------------------------
+
+def turning_points(torque: np.ndarray, threshold: float) -> list[int]:
+    """Indices of the torque's alternating extremes (zig-zag): an extreme is confirmed once the
+    torque has moved back from it by more than ``threshold`` [N m]; the first and last samples
+    are not turning points."""
+    ext: list[int] = []
+    mode, hi, lo = 0, 0, 0
+    for i in range(1, torque.size):
+        if mode >= 0 and torque[i] > torque[hi]:
+            hi = i
+        if mode <= 0 and torque[i] < torque[lo]:
+            lo = i
+        if mode >= 0 and torque[hi] - torque[i] > threshold:
+            ext.append(hi)
+            mode, lo = -1, i
+        elif mode <= 0 and torque[i] - torque[lo] > threshold:
+            ext.append(lo)
+            mode, hi = 1, i
+    return [k for k in ext if 0 < k < torque.size - 1]
+
+
+def _stretches(torque: np.ndarray, turns: list[int]) -> list[tuple[int, int, int, bool]]:
+    """(start, stop, direction +1 rising / -1 falling, complete: between two turning points)."""
+    bounds = [0, *turns, torque.size - 1]
+    out = []
+    for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
+        if b <= a:
+            continue
+        direction = 1 if torque[b] > torque[a] else -1
+        out.append((a, b, direction, 0 < k < len(bounds) - 2))
+    return out
+
+
+def _label(torque: np.ndarray, stretches) -> np.ndarray:
+    """Branch index of every sample (BRANCHES order): rising -> unload- below 0, load+ from 0;
+    falling -> unload+ from 0, load- below."""
+    idx = np.empty(torque.size, int)
+    for a, b, d, _ in stretches:
+        t = torque[a:b + 1]
+        idx[a:b + 1] = np.where(t >= 0, 0, 3) if d > 0 else np.where(t >= 0, 1, 2)
+    return idx
+
+
+def _drift(time: np.ndarray, angle: np.ndarray, torque: np.ndarray, stretches, span: float) -> float | None:
+    """Common slope [arcmin per time unit] of the angle read at one torque near each peak, on the
+    stretch arriving at it (a line through its samples within +-3 % of the torque range of
+    0.95 x the smallest peak of that sign), against time: pooled least squares over both signs;
+    None with fewer than two such readings of one sign."""
+    groups: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
+    arriving = [(a, b, d) for a, b, d, complete in stretches if b < torque.size - 1]  # ends at a turning point
+    for sign in (1, -1):
+        ends = [sign * torque[b] for a, b, d in arriving if d == sign]
+        if not ends:
+            continue
+        level = 0.95 * min(ends)
+        for a, b, d in arriving:
+            if d != sign:
+                continue
+            t, y, s = torque[a:b + 1] * sign, angle[a:b + 1], time[a:b + 1]
+            near = np.abs(t - level) <= 0.03 * span
+            if near.sum() < 3:
+                continue
+            slope, icpt = np.polyfit(t[near] - level, y[near], 1)
+            groups[sign].append((float(np.mean(s[near])), float(icpt)))
+    num = den = 0.0
+    for pts in groups.values():
+        if len(pts) < 2:
+            continue
+        t, a = np.array(pts).T
+        num += float(np.sum((t - t.mean()) * (a - a.mean())))
+        den += float(np.sum((t - t.mean()) ** 2))
+    return num / den if den > 0 else None
+
+
+def _local_fit(t: np.ndarray, a: np.ndarray, at: float, half: float) -> tuple[float, float, np.ndarray] | None:
+    """Angle at torque ``at`` from a quadratic fit of the samples within +-half (widened to the
+    MIN_FIT_POINTS nearest): (value, sqrt of the value's variance factor, residuals); None: too few samples."""
+    if t.size < MIN_FIT_POINTS:
+        return None
+    d = t - at
+    inside = np.abs(d) <= half
+    if inside.sum() < MIN_FIT_POINTS:
+        inside = np.zeros(t.size, bool)
+        inside[np.argsort(np.abs(d))[:MIN_FIT_POINTS]] = True
+    x = d[inside] / max(half, 1e-12)
+    basis = np.column_stack([np.ones_like(x), x, x * x])
+    coef, *_ = np.linalg.lstsq(basis, a[inside], rcond=None)
+    cov = np.linalg.pinv(basis.T @ basis)
+    return float(coef[0]), float(math.sqrt(max(cov[0, 0], 0.0))), a[inside] - basis @ coef
+
+
+def _grid(start: float, end: float, extra: Sequence[float]) -> np.ndarray:
+    grid = np.linspace(start, end, GRID_POINTS)
+    lo, hi = min(start, end), max(start, end)
+    t = np.unique(np.concatenate([grid, [x for x in extra if lo <= x <= hi]]))
+    return t if end >= start else t[::-1]
+
+
+def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring_fraction: float = 0.03,
+              interval: Sequence[float] = (0.5, 1.0), rated_from: str = "given") -> BenchLoop:
+    """The figures of one measured loop (module docstring); ``rated_torque_nm`` None: the mean of
+    the loop's smaller peak magnitudes (said in ``rated_torque_from``)."""
+    where = table.path
+    col_t = f"{where}: column '{table.headers['torque']}'"
+    torque, angle = table.columns["torque"].copy(), table.columns["angle"].copy()
+    has_time = "time" in table.columns
+    time = table.columns["time"] if has_time else np.arange(torque.size, dtype=float)
+    if torque.size < 4 * MIN_FIT_POINTS:
+        raise InputError(where, torque.size, f"samples; allowed: at least {4 * MIN_FIT_POINTS} (a loop of four "
+                                             f"branches)")
+    span = float(torque.max() - torque.min())
+    turns = turning_points(torque, TURN_FRACTION * span) if span > 0 else []
+    stretches = _stretches(torque, turns)
+    idx = _label(torque, stretches)
+    counts = {b: 0 for b in BRANCHES}
+    for a, b, d, _ in stretches:
+        for k in set(idx[a:b + 1].tolist()):
+            counts[BRANCHES[k]] += 1
+    missing = [b for b in BRANCHES if counts[b] == 0 or np.count_nonzero(idx == BRANCHES.index(b)) < MIN_FIT_POINTS]
+    if missing:
+        found = [b for b in BRANCHES if b not in missing]
+        raise InputError(col_t, allowed=f"found {', '.join(found) or 'no branch'} only (missing {', '.join(missing)}); "
+                                        f"allowed: a loop 0 -> +T -> 0 -> -T -> 0 with all four branches")
+    peaks_p = [torque[k] for k in turns if torque[k] > 0] or [torque.max()]
+    peaks_m = [torque[k] for k in turns if torque[k] < 0] or [torque.min()]
+    peaks = (float(np.mean(peaks_p)), float(np.mean(peaks_m)))
+    if rated_torque_nm is None:
+        rated_torque_nm, rated_from = min(peaks[0], -peaks[1]), "loop peaks"
+    tr = float(rated_torque_nm)
+    x = measuring_fraction * tr
+    lo, hi = interval
+    need = max(hi, *(h for _, h in SECANT_INTERVALS)) * tr
+    for b, sign in (("load+", 1), ("load-", -1)):
+        reach = float(np.max(sign * torque[idx == BRANCHES.index(b)]))
+        if reach < need - REACH_TOLERANCE * tr:
+            raise InputError(col_t, allowed=f"{b} reaches {sign * reach:g} N m only; allowed: a loop reaching "
+                                            f"{'+' if sign > 0 else '-'}{need:g} N m ({max(hi, 1.0):g} T_R, "
+                                            f"T_R = {tr:g} N m)")
+    notes = list(table.notes)
+    drift = _drift(time, angle, torque, stretches, span)
+    if drift is None:
+        notes.append("drift not estimated (fewer than two torque peaks of one sign)")
+    else:
+        angle = angle - drift * (time - time[0])
+    cycles = min(sum(torque[k] > 0 for k in turns), sum(torque[k] < 0 for k in turns))  # a peak of each sign
+    half = WINDOW_FRACTION * tr
+    secant_torques = tuple(f * tr for iv in SECANT_INTERVALS for f in iv)
+    specs = (("load+", 0.0, tr, (x, lo * tr, hi * tr, *secant_torques)), ("unload+", tr, 0.0, (x,)),
+             ("load-", 0.0, -tr, (-x, -lo * tr, -hi * tr, *(-s for s in secant_torques))), ("unload-", -tr, 0.0, (-x,)))
+    fitted: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+    residuals = []
+    for name, start, end, extra in specs:
+        sel = idx == BRANCHES.index(name)
+        t, a = torque[sel], angle[sel]
+        nodes = _grid(start, end, extra)
+        if name.startswith("load"):
+            nodes = nodes[np.abs(nodes) >= x * (1 - 1e-12)]  # beyond the dead band's jump
+        values, factors = [], []
+        for node in nodes:
+            fit = _local_fit(t, a, float(node), half)
+            values.append(fit[0])
+            factors.append(fit[1])
+            residuals.append(fit[2])
+        fitted[name] = (nodes, np.array(values), np.array(factors))
+    r = np.concatenate(residuals)  # each fit took 3 degrees of freedom of its samples
+    dof = max(r.size - 3 * len(residuals), 1)
+    noise = float(1.4826 * np.median(np.abs(r - np.median(r))) * math.sqrt(r.size / dof))
+    # load branches start where the branch they continue ends (the jump is no function of torque)
+    for load, before in (("load+", "unload-"), ("load-", "unload+")):
+        n, v, f = fitted[load]
+        fitted[load] = (np.concatenate([[0.0], n]), np.concatenate([[fitted[before][1][-1]], v]),
+                        np.concatenate([[fitted[before][2][-1]], f]))
+    offset = 0.5 * (fitted["unload+"][1][-1] + fitted["unload-"][1][-1])
+    branches = {k: (n, v - offset) for k, (n, v, _) in fitted.items()}
+    sigmas = {k: noise * f for k, (_, _, f) in fitted.items()}
+    figs = loop_figures(branches, tr, measuring_fraction, interval)
+    unc = _propagate(branches, sigmas, tr, measuring_fraction, interval, figs)
+    loop = tuple(HysteresisBranch(k, tuple(float(v) for v in branches[k][0]), tuple(float(v) for v in branches[k][1]))
+                 for k in BRANCHES)
+    secants = tuple(RigiditySecant(a, b, figs[secant_key(a, b)]) for a, b in SECANT_INTERVALS)
+    return BenchLoop(
+        where, "hysteresis", tr, rated_from, measuring_fraction, (float(lo), float(hi)), figs["lost_motion_arcmin"],
+        figs["backlash_arcmin"], figs["torsional_rigidity_nm_per_arcmin"], secants, figs["hysteresis_loss_j"],
+        {k: 2.0 * unc[k] for k in FIGURES}, int(torque.size), int(cycles), counts, noise, drift,
+        "s" if has_time else "sample", float(offset), peaks, tuple(notes), loop, (), torque, angle - offset, idx,
+        sigmas)
+
+
+def _propagate(branches, sigmas, tr, x, interval, figs) -> dict[str, float]:
+    """One standard deviation of each figure: the reader's linear response to each node's angle
+    (a step of that node's sigma) summed in quadrature (the nodes' fits share no sample)."""
+    var = {k: 0.0 for k in figs}
+    for name, (nodes, values) in branches.items():
+        for i, s in enumerate(sigmas[name]):
+            if s <= 0:
+                continue
+            moved = dict(branches)
+            v = values.copy()
+            v[i] += s
+            moved[name] = (nodes, v)
+            if name.startswith("unload") and i == len(v) - 1:  # the load branch starts at this node too
+                load = "load+" if name == "unload-" else "load-"
+                lv = branches[load][1].copy()
+                lv[0] += s
+                moved[load] = (branches[load][0], lv)
+            elif name.startswith("load") and i == 0:
+                continue  # that node is the unload branch's end, counted there
+            step = loop_figures(moved, tr, x, interval)
+            for k in var:
+                d = step[k] - figs[k]
+                var[k] += d * d if math.isfinite(d) else 0.0
+    return {k: math.sqrt(v) for k, v in var.items()}
+
+
+# --- transmission error -------------------------------------------------------------------------
+
+def read_te(table: BenchTable, ratio: float | None = None, positions: int = TE_POSITIONS) -> BenchTransmissionError:
+    """The TE curve of one measured unit over an output revolution (module docstring)."""
+    where = table.path
+    out_arcmin = table.columns["angle"]
+    if "te" in table.columns:
+        te = table.columns["te"]
+    else:
+        if ratio is None or not (isinstance(ratio, (int, float)) and math.isfinite(ratio) and ratio != 0):
+            raise InputError("ratio", ratio, f"{where} gives input and output angles: allowed: the reduction ratio "
+                                             f"(input turns per output turn, non-zero)")
+        te = (out_arcmin - table.columns["input_angle"] / ratio) * 60.0
+    deg = out_arcmin / 60.0
+    revolutions = float((deg.max() - deg.min()) / 360.0)
+    pos = np.mod(deg - deg[0], 360.0)  # from the first sample
+    bins = np.floor(pos / 360.0 * positions).astype(int) % positions
+    counts = np.bincount(bins, minlength=positions)
+    col = f"{where}: column '{table.headers['angle']}'"
+    widest = _widest_empty(counts > 0)
+    if widest * 360.0 / positions > 5.0 or revolutions < 1.0 - 5.0 / 360.0:
+        raise InputError(col, allowed=f"the samples span {revolutions * 360:.1f} deg with a gap of "
+                                      f"{widest * 360.0 / positions:.1f} deg; allowed: a full output revolution "
+                                      f"without gaps wider than 5 deg")
+    sums = np.bincount(bins, weights=te, minlength=positions)
+    centre = (np.arange(positions) + 0.5) * 360.0 / positions
+    have = counts > 0
+    mean = np.interp(centre, centre[have], sums[have] / counts[have], period=360.0)
+    noise = float(np.std(te - mean[bins]))
+    # the curve on the equal steps of the revolution: the bins' centres
+    grid = centre
+    curve = mean - mean.mean()
+    # a bin's mean of cos(m theta) is sinc(m / N) times its value at the centre: undone per order
+    spec = amplitude_spectrum(curve) / np.sinc(np.arange(positions // 2 + 1) / positions)
+    floor = max(SPECTRUM_FLOOR_ARCSEC, 5.0 * float(np.median(spec[1:])))
+    lead = [int(k) for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1 if spec[k] > floor]
+    notes = list(table.notes)
+    if revolutions > 1.05:
+        notes.append(f"{revolutions:.2f} revolutions averaged by output position")
+    start = float(np.mod(deg[0], 360.0))
+    return BenchTransmissionError(where, "transmission_error", int(te.size), revolutions, positions,
+                                  float(np.ptp(curve)), float(curve.min()), float(curve.max()), noise, floor,
+                                  tuple(SpectralLine(k, float(spec[k])) for k in lead), tuple(notes), (),
+                                  np.mod(grid + start, 360.0), curve, spec)
+
+
+def _widest_empty(filled: np.ndarray) -> int:
+    """Longest run of empty bins, around the revolution's end too."""
+    if filled.all():
+        return 0
+    if not filled.any():
+        return filled.size
+    k = int(np.argmax(filled))
+    rolled = np.roll(filled, -k)
+    best = run = 0
+    for f in rolled:
+        run = 0 if f else run + 1
+        best = max(best, run)
+    return best
+
+
+# --- files, a batch, the design's production run ----------------------------------------------------
+
+def read_bench_file(path: str | Path, *, rated_torque_nm: float | None = None, measuring_fraction: float = 0.03,
+                    interval: Sequence[float] = (0.5, 1.0), units: Mapping[str, str | None] | None = None,
+                    ratio: float | None = None, rated_from: str = "given") -> BenchLoop | BenchTransmissionError:
+    """One bench file: a hysteresis loop (a torque column) or a TE curve."""
+    table = read_bench_table(path, units)
+    if table.kind == "hysteresis":
+        return read_loop(table, rated_torque_nm, measuring_fraction, interval, rated_from)
+    return read_te(table, ratio)
+
+
+def check_rated_torque(value) -> float | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise InputError("rated_torque_nm", value, "allowed: a torque > 0 [N m]")
+    return float(value)
+
+
+def read_bench(paths: Sequence[str | Path], problem=None, *, rated_torque_nm: float | None = None,
+               units: Mapping[str, str | None] | None = None, ratio: float | None = None, samples: int = 2000,
+               seed: int = 0, sobol_samples: int = 256) -> BenchResult:
+    """Every file of a batch (one unit each); with ``problem`` (a design with [elastic]) each
+    figure placed in the design's predicted production run of ``samples`` units (``place``)."""
+    if isinstance(paths, (str, Path)):
+        paths = [paths]
+    if not paths:
+        raise InputError("files", [], "allowed: one or more bench files")
+    rated_torque_nm = check_rated_torque(rated_torque_nm)
+    x, interval, rated_from = 0.03, (0.5, 1.0), "given"
+    if problem is not None and problem.design.elastic is not None:
+        e = problem.design.elastic
+        x, interval = e.measuring_torque_fraction, tuple(e.rigidity_interval_fraction)
+        if rated_torque_nm is None:
+            rated_torque_nm, rated_from = e.rated_torque_nm, "design"
+    if ratio is None and problem is not None:
+        ratio = float(problem.geometry.ratio)
+    units_read = [read_bench_file(p, rated_torque_nm=rated_torque_nm, measuring_fraction=x, interval=interval,
+                                  units=units, ratio=ratio, rated_from=rated_from) for p in paths]
+    predicted: dict[str, np.ndarray] = {}
+    if problem is not None:
+        units_read, predicted = place(problem, units_read, samples=samples, seed=seed, sobol_samples=sobol_samples)
+    spread = {}
+    for kind_figs in (("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin"),
+                      ("te_peak_to_peak_arcsec",)):
+        for f in kind_figs:
+            vals = [u.figures()[f] for u in units_read if f in u.figures()]
+            if len(vals) >= 2:
+                p = predicted.get(f)
+                spread[f] = {"units": len(vals), "measured_mean": float(np.mean(vals)),
+                             "measured_sigma": float(np.std(vals, ddof=1)),
+                             "predicted_sigma": float(np.std(p)) if p is not None else None}
+    return BenchResult(problem.name if problem is not None else None, samples if problem is not None else 0, seed,
+                       tuple(units_read), spread)
+
+
+ELASTIC_OUTPUTS = {"lost_motion_arcmin": (0, "lost_motion"), "backlash_arcmin": (1, "backlash"),
+                   "torsional_rigidity_nm_per_arcmin": (2, "rigidity")}
+
+
+def predicted_elastic(problem, samples: int, seed: int) -> dict[str, np.ndarray]:
+    """Lost motion, backlash and rigidity of ``samples`` units of the design's production run
+    (the elastic model's units, drawn as the Monte-Carlo draws them)."""
+    from rvbacklash.models.elastic import elastic_model, loop_design
+    from rvbacklash.sampling.elastic_source import design_pin_laws, evaluate_batch, sample_units
+
+    model = elastic_model(problem)
+    out = evaluate_batch(loop_design(model, design_pin_laws(model)), sample_units(problem, int(seed), int(samples)))
+    return {k: out[i] for k, (i, _) in ELASTIC_OUTPUTS.items()}
+
+
+def predicted_te(problem, samples: int, seed: int) -> dict[str, np.ndarray]:
+    """TE peak-to-peak of ``samples`` units of the transmission model's production run (exact curves)."""
+    from rvbacklash.analysis.transmission import transmission_error
+    from rvbacklash.sampling.te_source import sample_units
+
+    units = sample_units(problem, int(seed), int(samples))
+    return {"te_peak_to_peak_arcsec": np.array([transmission_error(problem, u, "", 1024, shares=False)
+                                                .te_peak_to_peak_arcsec for u in units])}
+
+
+def _explaining(problem, model: str, output: str, samples: int, seed: int) -> tuple[str, ...]:
+    """The factor groups whose total Sobol index is at least a third of the largest (at most 3)."""
+    from rvbacklash.analysis.sensitivity_global import global_sensitivity
+
+    s = global_sensitivity(problem, model=model, output=output, samples=samples, seed=seed, resamples=100)
+    ranked = sorted(s.groups, key=lambda g: -g.total)
+    top = ranked[0].total if ranked else 0.0
+    return tuple(g.input for g in ranked[:3] if top > 0 and g.total >= top / 3)
+
+
+def place(problem, units: Sequence, *, samples: int = 2000, seed: int = 0, sobol_samples: int = 256):
+    """Each unit's figures as percentiles of the design's predicted production run; a unit outside
+    0.135-99.865 % names the factor groups that dominate that figure's variance (Sobol)."""
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 100 <= samples <= 10**6:
+        raise InputError("samples", samples, "allowed: 100 to 1e6 predicted units")
+    loops = any(isinstance(u, BenchLoop) for u in units)
+    tes = any(isinstance(u, BenchTransmissionError) for u in units)
+    predicted: dict[str, np.ndarray] = {}
+    if loops:
+        if problem.design.elastic is None:
+            raise InputError("elastic", allowed="the design has no [elastic] table; allowed: a design with one to "
+                                                "place hysteresis loops")
+        predicted.update(predicted_elastic(problem, samples, seed))
+    if tes:
+        predicted.update(predicted_te(problem, min(samples, 200), seed))
+    sobol_cache: dict[str, tuple[str, ...]] = {}
+    out = []
+    for u in units:
+        rows = []
+        for fig, value in u.figures().items():
+            p = predicted.get(fig)
+            if p is None or not math.isfinite(value):
+                continue
+            pct = 100.0 * (np.count_nonzero(p < value) + 0.5 * np.count_nonzero(p == value)) / p.size
+            q = np.quantile(p, [0.00135, 0.05, 0.5, 0.95, 0.99865])
+            outside = not 0.135 <= pct <= 99.865
+            factors: tuple[str, ...] = ()
+            if outside:
+                if fig not in sobol_cache:
+                    model, output = (("elastic", ELASTIC_OUTPUTS[fig][1]) if fig in ELASTIC_OUTPUTS
+                                     else ("transmission", "transmission_error"))
+                    sobol_cache[fig] = _explaining(problem, model, output, sobol_samples, seed)
+                factors = sobol_cache[fig]
+            beyond = bool(value < p.min() or value > p.max())
+            rows.append(Placement(fig, float(value), float(pct), outside, *(float(v) for v in q), factors, beyond))
+        out.append(_with_placement(u, tuple(rows)))
+    return out, predicted
+
+
+def _with_placement(u, rows):
+    import dataclasses
+
+    return dataclasses.replace(u, placement=rows)

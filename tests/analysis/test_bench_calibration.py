@@ -1,0 +1,109 @@
+"""Calibration against measured loops (analysis/calibration.py, issue 29): the model's own loop
+with a known structure stiffness, friction and clearance gives them back within their 95 %
+intervals; the calibrated design's loop is the measured one; a batch of units with different
+clearances gives the mean clearance and the spread; what cannot be fitted is said."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rvbacklash as rb
+from rvbacklash.analysis.bench import read_bench
+from rvbacklash.analysis.bench_synthetic import model_loop_samples, write_loop_csv
+from rvbacklash.analysis.calibration import calibrate
+from rvbacklash.analysis.hysteresis import hysteresis
+from rvbacklash.errors import InputError
+from rvbacklash.report.design_toml import design_toml
+
+TRUE_K, TRUE_TF = 400.0, 3.0
+NOMINAL_CLEARANCE = 4.5  # rv80e: the zone mean of [0, IT5 of 30 mm] (factor 20)
+
+
+def with_elastic(design, **fields):
+    return rb.prepare(design.model_copy(update={"elastic": design.elastic.model_copy(update=fields)}))
+
+
+@pytest.fixture(scope="module")
+def truth(rv80e):
+    return with_elastic(rv80e, structure_stiffness_nm_per_arcmin=TRUE_K, friction_torque_nm=TRUE_TF)
+
+
+def unit_file(truth, path, clearance, seed, samples=250, noise=0.01):
+    t, q, a = model_loop_samples(truth, cycles=2, samples_per_branch=samples, noise_arcmin=noise, offset_arcmin=2.0,
+                                 drift_arcmin_per_s=0.005, uneven=True, seed=seed, crank_clearance_um=clearance)
+    return write_loop_csv(path, t, q, a, angle_unit="deg")
+
+
+def test_one_unit_recovers_stiffness_friction_and_clearance(rv80e_problem, truth, tmp_path):
+    """Done-when check: calibrate on the model's loop (noise, offset, drift, two cycles, degrees)
+    recovers the structure stiffness and the friction within their 95 % intervals, and the
+    calibrated design's loop reproduces the measured one."""
+    f = unit_file(truth, tmp_path / "u.csv", 6.0, seed=3)
+    r = calibrate(rv80e_problem, [f], bootstrap=0)
+    for name, true in (("structure_stiffness_nm_per_arcmin", TRUE_K), ("friction_torque_nm", TRUE_TF),
+                       ("crank_clearance_offset_um", 6.0 - NOMINAL_CLEARANCE)):
+        p = r.parameter(name)
+        assert p.ci95_low <= true <= p.ci95_high, (name, p)
+        assert p.ci_from == "jacobian"
+    assert r.parameter("structure_stiffness_nm_per_arcmin").design_value is None  # derived before
+    assert r.residual_rms_arcmin == pytest.approx(0.01, rel=0.25)  # the noise: nothing left to explain
+    # the calibrated design file: what was fitted, from where, when; it loads and runs
+    text = design_toml(r.design, "Calibrated from " + str(f))
+    path = tmp_path / "calibrated.toml"
+    path.write_text(text)
+    again = hysteresis(rb.prepare(str(path)))
+    measured = read_bench([f], rated_torque_nm=784.0).units[0]
+    for k in ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin"):
+        assert abs(getattr(again, k) - getattr(measured, k)) <= measured.uncertainty_k2[k], k
+        assert getattr(again, k) == pytest.approx(r.after[k], rel=1e-12)
+    assert again.structure_model == "stated"
+    assert r.design.factors.crank_bearing_clearance.mean_um == pytest.approx(6.0, abs=0.05)
+
+
+def test_a_batch_of_five_units_with_different_clearances(rv80e_problem, truth, tmp_path):
+    """Done-when check: five units, clearances 3..7 um: the stiffness and friction come back within
+    the bootstrap's intervals, the clearance offset is the batch's mean, the spread is reported."""
+    clearances = (3.0, 4.0, 5.0, 6.0, 7.0)
+    files = [unit_file(truth, tmp_path / f"u{i}.csv", g, seed=10 + i, samples=60) for i, g in enumerate(clearances)]
+    r = calibrate(rv80e_problem, files, bootstrap=4, seed=1)
+    assert r.bootstrap_resamples >= 3
+    for name, true in (("structure_stiffness_nm_per_arcmin", TRUE_K), ("friction_torque_nm", TRUE_TF)):
+        p = r.parameter(name)
+        assert p.ci_from.endswith("bootstrap over units (the wider)") and p.ci95_low <= true <= p.ci95_high, (name, p)
+    assert r.parameter("crank_clearance_offset_um").value == pytest.approx(np.mean(clearances) - NOMINAL_CLEARANCE,
+                                                                           abs=0.3)
+    s = r.spread["backlash_arcmin"]
+    assert s["units"] == 5 and s["measured_sigma"] > 0.05  # 1 um of crank clearance ~ 0.08 arcmin of dead band
+    assert r.crank_clearance_um_per_unit == pytest.approx(clearances, abs=0.1)
+    g = r.spread["crank_clearance_um"]
+    assert g["measured_sigma"] == pytest.approx(np.std(clearances, ddof=1), rel=0.1) and g["predicted_sigma"] == 1.5
+
+
+def test_a_rigid_structure_is_not_identifiable(rv80e, rv80e_problem, tmp_path):
+    rigid = with_elastic(rv80e, structure_stiffness_nm_per_arcmin=1e8)
+    t, q, a = model_loop_samples(rigid, cycles=1, samples_per_branch=80, noise_arcmin=0.005, seed=1)
+    f = write_loop_csv(tmp_path / "rigid.csv", t, q, a)
+    with pytest.raises(InputError) as e:
+        calibrate(rv80e_problem, [f], bootstrap=0)
+    assert e.value.value == "structure_stiffness_nm_per_arcmin" and "not identifiable" in str(e.value)
+    assert str(f) in e.value.field and "\n" not in str(e.value)
+
+
+def test_a_calibration_that_does_not_converge_says_so(rv80e_problem, truth, tmp_path):
+    f = unit_file(truth, tmp_path / "u.csv", 4.5, seed=5, samples=60)
+    with pytest.raises(InputError) as e:
+        calibrate(rv80e_problem, [f], bootstrap=0, max_evaluations=2)
+    assert "did not converge" in str(e.value) and str(f) in e.value.field
+
+
+def test_a_te_file_or_another_rated_torque_cannot_be_calibrated(rv80e_problem, truth, tmp_path):
+    f = unit_file(truth, tmp_path / "u.csv", 4.5, seed=5, samples=60)
+    with pytest.raises(InputError) as e:
+        rb.calibrate(rv80e_problem, bench=f, bootstrap=-1)
+    assert e.value.field == "bootstrap"
+    te = tmp_path / "te.tsv"
+    te.write_text("output angle [deg]\tte [arcsec]\n" + "".join(f"{k * 0.5}\t{np.sin(k / 50)}\n" for k in range(720)))
+    with pytest.raises(InputError) as e:
+        rb.calibrate(rv80e_problem, bench=[f, te])
+    assert e.value.field == str(te) and "transmission-error" in str(e.value)
