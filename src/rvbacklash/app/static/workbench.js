@@ -20,7 +20,7 @@ const PAGE = "page-" + Math.random().toString(36).slice(2, 10);  // this page's 
 const state = {
   design: null, origin: null, edits: {}, controls: null,
   // each model's own specs (a TE spec would turn the contact model into the transmission model)
-  specs: { linear: { arcmin: 3 }, contact: { arcmin: 3 }, elastic: { lost_motion_arcmin: 1.5, rigidity_nm_per_arcmin: 450 },
+  specs: { linear: { arcmin: 3 }, contact: { arcmin: 3 }, elastic: { lost_motion_arcmin: 1.5, rigidity_nm_per_arcmin: 200 },
            transmission: { arcmin: 3, te_arcsec: 60 } },
   seq: 0, demandSeq: 0, shown: 0, lastJson: null, demandId: null, demandTimer: null,
 };
