@@ -251,6 +251,12 @@ def _ratio(field: str, size: float, length_field: str, length: float, what: str,
     raise InputError(field, size, f"{what} = {length / size:.4g} ({length_field} = {length:g}); allowed: {allowed}")
 
 
+def has_disc_fe(structure: StructureInputs | None) -> bool:
+    """Whether the design's discs are FE bodies (``disc_pillar_hole_diameter_mm`` given) rather than
+    rigid (mechanics/disc_body.py)."""
+    return structure is not None and structure.disc_pillar_hole_diameter_mm is not None
+
+
 def has_carrier_fe(structure: StructureInputs | None) -> bool:
     """Whether the design's carrier is the FE body (all of CARRIER_FE_FIELDS given) rather than the
     pillars clamped in rigid plates (mechanics/carrier_body.py, models/compliance.py)."""

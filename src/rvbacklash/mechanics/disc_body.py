@@ -126,12 +126,6 @@ class DiscBodyResult:
         return cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in d.items()})
 
 
-def has_disc_fe(structure) -> bool:
-    """Whether a design's ``[structure]`` table (a StructureInputs, or None) asks for the discs' FE:
-    it gives ``disc_pillar_hole_diameter_mm``."""
-    return structure is not None and structure.disc_pillar_hole_diameter_mm is not None
-
-
 # --- loads -------------------------------------------------------------------------------------
 
 def pin_load(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray) -> PinLoad:

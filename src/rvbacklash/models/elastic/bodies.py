@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from rvbacklash.design.structure import has_carrier_fe
+from rvbacklash.design.structure import has_carrier_fe, has_disc_fe
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.elastic.chain import ElasticModel, RISE, closed_form_model, needle_secant_stiffness_n_per_um
 from rvbacklash.models.elastic.unit import PreparedUnit, unit_from_realization
@@ -33,7 +33,7 @@ def elastic_model(problem: Problem) -> ElasticModel:
     c = model.chain
     changes: dict[str, float] = {}
     disc = carrier = None
-    if st.disc_pillar_hole_diameter_mm is not None:  # the discs' FE asked for (mechanics.disc_body.has_disc_fe)
+    if has_disc_fe(st):
         from rvbacklash.mechanics.disc_body import disc_body_compliance  # scikit-fem and gmsh: only when used
         torque = c.rigidity_high * c.rated_torque_nm
         s2 = problem.design.second_stage
