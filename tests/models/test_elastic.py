@@ -439,29 +439,29 @@ def test_contacts_in_closure_order_load_as_in_any_order():
         assert not np.any(np.diff(closed[:npos].astype(int)) > 0)  # a prefix of each run
         assert not np.any(np.diff(closed[npos:npos + nneg].astype(int)) > 0)
         law = sv.ContactLaw(2.3e-4, 1.0, 1e-6)
-        plain = sv.set_load(x, sv.ContactSet(gaps, levers, law_a, sv.set_bounds(gaps, levers, m), np.zeros(m), -1, 0), law)
-        runs = sv.set_load(x, sv.ContactSet(g, lv, la, sv.set_bounds(g, lv, m), np.zeros(m), npos, nneg), law)
+        plain = sv.set_load(x, sv.ContactSet(gaps, levers, law_a, sv.set_bounds(gaps, levers, m), np.zeros(m), -1, 0), law, 1)
+        runs = sv.set_load(x, sv.ContactSet(g, lv, la, sv.set_bounds(g, lv, m), np.zeros(m), npos, nneg), law, 1)
         np.testing.assert_allclose(runs, plain, rtol=1e-12, atol=1e-15)
     assert n_closed > 100  # the loads are sums over many closed contacts, not zeros
 
 
 @pytest.mark.parametrize("sign", [1.0, -1.0])
-def test_the_pins_bound_holds_with_a_tiny_lever_among_the_largest(model, sign):
-    """_pins_bound: the set carries at least T_R at the bound, also when one of the pins with the
-    largest levers on the loaded side has a tiny lever (its equal share then lies far beyond the end of
-    Johnson's formula, where the solver continues the law by its tangent; read with the bare formula
-    that pin's closure went negative and the bound fell short: 706 of 784 N m)."""
-    c = model.chain
-    lev = sign * np.array([60000.0, 59000.0, 58000.0, 3.0, -60000.0])  # output-referred [um/rad]
-    gaps = np.array([0.0, 0.5, 1.0, 0.0, 0.0])
-    laws = np.full(5, ch.pin_law_a(0.3, c))
-    bounds = sv.set_bounds(gaps, lev, 5)
-    load = sign * c.rated_torque_nm
-    x = ch._pins_bound(gaps, lev, laws, bounds, c, load)
-    law = sv.ContactLaw(c.law_b, c.law_n, 1e-6)
-    carried = sv.set_load(x, sv.ContactSet(gaps, lev, laws, bounds, np.zeros(5), -1, 0), law)[0]
-    assert sign * carried >= c.rated_torque_nm
-    # and a useful bound: the solved rotation is not far below it
-    solved = sv.solve_set(sv.ContactSet(gaps, lev, laws, bounds, np.zeros(5), -1, 0), law, load, sign, np.nan,
-                          (np.nan, np.nan)).x
-    assert abs(solved) <= abs(x) < 1.5 * abs(solved)
+def test_closure_prediction_is_the_root_for_linear_contacts(sign):
+    """solver.closure_prediction (a solve's start far from the last solution): each closed contact
+    on its tangent, each contact closing beyond on the last one's. For linear contacts of one law
+    (F = delta / a: Palmgren's form with n = 1) that piecewise-linear load is the set's own, so the
+    walked start is the root itself, past the closures of the contacts that close on the way."""
+    rng = np.random.default_rng(11)
+    m = 16
+    gaps = rng.uniform(0.0, 2.0, m)  # a clearance: the other run is open
+    levers = rng.uniform(1e4, 5e4, m) * np.where(np.arange(m) % 2 == 0, 1.0, -1.0)
+    order, npos, nneg = sv.closure_order(gaps, levers, m)
+    g, lv = gaps[order], levers[order]
+    law = sv.ContactLaw(0.0, 1.0, 1e-6)
+    cs = sv.ContactSet(g, lv, np.full(m, 0.003), sv.set_bounds(g, lv, m), np.zeros(m), npos, nneg)
+    x0 = sv.solve_set(cs, law, sign * 5.0, sign, np.nan, (np.nan, np.nan)).x  # leaves its forces in cs
+    predicted = sv.closure_prediction(cs, law, sign * 60.0, x0)
+    fresh = sv.ContactSet(g, lv, np.full(m, 0.003), sv.set_bounds(g, lv, m), np.zeros(m), npos, nneg)
+    root = sv.solve_set(fresh, law, sign * 60.0, sign, np.nan, (np.nan, np.nan)).x
+    assert predicted == pytest.approx(root, rel=1e-9)
+    assert np.sum(lv * root - g > 0) > np.sum(lv * x0 - g > 0) + 1  # contacts closed on the way

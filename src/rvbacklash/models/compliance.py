@@ -195,7 +195,8 @@ def law_approach_um(force_n, a, b, n):
     Johnson: n = 1 and (a, b) from ``johnson_law_a_um_per_n`` / ``johnson_law_b_um_per_n``;
     Palmgren: n = 0.9, b = 0, a = ``palmgren_law_a``. Two contacts in series (a roller between
     two raceways) add their a's and b's. F > 0 [N]; returns [um]."""
-    return force_n ** n * (a - b * math.log(force_n))
+    scale = force_n if n == 1.0 else force_n ** n  # the same number; the power is a libm call
+    return scale * (a - b * math.log(force_n))
 
 
 @njit(cache=True)
@@ -205,10 +206,12 @@ def law_approach_continued_um(force_n, a, b, n):
     d(delta)/dF = b, it is continued by that tangent, delta = 2 b F_lim + b (F - F_lim); increasing
     in F for every F > 0 (a bound built on it stays a bound). Palmgren (b = 0): the law itself.
     F > 0 [N]; returns [um]."""
-    if b > 0.0 and math.log(force_n) > a / b - 2.0:
+    ln_f = math.log(force_n)
+    if b > 0.0 and ln_f > a / b - 2.0:
         f_lim = math.exp(a / b - 2.0)
         return 2.0 * b * f_lim + b * (force_n - f_lim)
-    return law_approach_um(force_n, a, b, n)
+    scale = force_n if n == 1.0 else force_n ** n
+    return scale * (a - b * ln_f)  # law_approach_um with the logarithm taken once
 
 
 # --- the pin-centre curve and the disc flank --------------------------------------------------

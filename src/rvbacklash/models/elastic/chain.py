@@ -76,7 +76,6 @@ N_FIGURES = 3 + 2 * N_ELEMENTS
 TRANSLATION_ROUNDS = 60  # solve_pins' rounds (x solve, Newton step on the translations) at most
 SUPPORT_MEMO = 24  # torques remembered by a support set (chain_angles' repeated calls)
 RISE, FALL = 0, 1  # the rising branch (load+, unload-) and the falling branch (load-, unload+)
-BOUND_CONTACTS = 6  # pins assumed to share +-T_R when bounding the rotation (prepare_pins)
 # Beam and shaft formulas are small-deflection theory: at the rated torque a crankshaft or a pillar
 # may deflect at most this share of its length, a crankshaft twist this many radians (rv80e: 1e-4)
 SMALL_DEFLECTION = 0.01
@@ -529,91 +528,46 @@ def unit_pin_laws(chi, c, zp, discs, table):
 
 
 @njit(nogil=True, cache=True)
-def _pins_bound(g, lev, laws, bounds, c, load):
-    """A rotation beyond the one at which the pins carry ``load`` (+-T_R), in closed form: if the
-    k pins with the largest levers L_j on the loaded side (k <= BOUND_CONTACTS) each carry an
-    equal share, F_j = |load| / (k 1e-6 L_j), their closures delta(F_j) (the contact law as the
-    solver reads it, ``law_approach_continued_um``: a tiny lever's huge share stays huge) are reached
-    at x_k = max_j (g_j + delta(F_j)) / L_j, where they carry the load; the other pins on the
-    loaded side add to it, and beyond the other side's last release nothing pulls back; so
-    max(min_k x_k, lo) (load > 0) bounds the rotation (no solve)."""
-    m = g.size
-    k = min(BOUND_CONTACTS, m)
-    idx = np.full(k, -1)
-    for j in range(m):  # the k largest levers on the loaded side (insertion into a short list)
-        v = lev[j] * load
-        if v <= 0.0:
-            continue
-        pos = k
-        while pos > 0 and (idx[pos - 1] < 0 or lev[idx[pos - 1]] * load < v):
-            pos -= 1
-        if pos < k:
-            for q in range(k - 1, pos, -1):
-                idx[q] = idx[q - 1]
-            idx[pos] = j
-    best = np.inf
-    for kk in range(1, k + 1):
-        if idx[kk - 1] < 0:
-            break
-        x = 0.0
-        for q in range(kk):
-            j = idx[q]
-            lv = abs(lev[j])
-            # in y = x sign(load): (g_j + delta) / |L_j| on either side
-            xj = (g[j] + cm.law_approach_continued_um(abs(load) / (kk * 1e-6 * lv), laws[j], c.law_b, c.law_n)) / lv
-            x = max(x, xj) if q > 0 else xj
-        best = min(best, x)
-    best += 1e-12 * abs(best)  # rounding
-    if load > 0.0:
-        return max(best, bounds.lo)
-    return min(-best, bounds.hi)
-
-
-@njit(nogil=True, cache=True)
-def prepare_pins(unit, c, every, table):
+def prepare_pins(unit, c, translating, table):
     """The pin contacts of a unit (its ElasticUnit: gaps, levers, crank angle) referred to the output
-    (levers / k), with their contact-law coefficients and bounds: a PinSet.
-    Reduced to the pins that close somewhere between the rotations at -T_R and +T_R (bounded by
-    ``_pins_bound``) unless ``every`` (the discs translate: a translation can close a pin that no
-    rotation closes, the tip and root pins); each with its closure per um of its disc's translation
-    along the eccentric (``compliance.pin_radial_closure``; 0 when the discs do not translate), its
-    disc, and the translations' state (``solve_pins``). ``table``: the design's ``pin_law_table``
-    (no rows: each law computed).
-    Without translation the kept contacts are in ``closure_order`` (npos, nneg: its runs; else
-    -1, 0)."""
+    (levers / k), with their contact-law coefficients and bounds: a PinSet of every pin, each with
+    its closure per um of its disc's translation along the eccentric
+    (``compliance.pin_radial_closure``; 0 when the discs do not ``translate``), its disc, and the
+    translations' state (``solve_pins``; empty rows when they do not translate). ``table``: the
+    design's ``pin_law_table`` (no rows: each law computed).
+    Without translation the contacts are in ``closure_order`` (npos, nneg: its runs; else -1, 0), so
+    that a load evaluation stops at each run's first open contact; the pins that no torque up to
+    +-T_R closes cost nothing there (a closed-form bound that dropped them, ~15 of 80 pins for rv80e,
+    cost more than it saved: issue 28)."""
     chi = unit.chi_rad
     discs, zp = unit.gap_um.shape
     g = unit.gap_um.ravel()
     lev = unit.lever_um_per_rad.ravel() / c.lever_factor
     m = g.size
-    bounds = set_bounds(g, lev, m)
     laws = unit_pin_laws(chi, c, zp, discs, table)
-    x_hi, x_lo = np.inf, -np.inf
-    if not every:
-        x_hi = _pins_bound(g, lev, laws, bounds, c, c.rated_torque_nm)
-        x_lo = _pins_bound(g, lev, laws, bounds, c, -c.rated_torque_nm)
-    keep = 0
+    npos, nneg = -1, 0
+    if translating:
+        order = np.arange(m)
+    else:  # fixed gaps: in closure order (set_load stops each run at its first open contact)
+        order, npos, nneg = closure_order(g, lev, m)
     gk = np.empty(m)
     lk = np.empty(m)
     ak = np.empty(m)
     rk = np.zeros(m)
-    dk = np.zeros(m, dtype=np.int64)
-    for j in range(m):
-        if every or lev[j] * x_hi - g[j] > 0.0 or lev[j] * x_lo - g[j] > 0.0:
-            gk[keep] = g[j]
-            lk[keep] = lev[j]
-            ak[keep] = laws[j]
-            if every:  # only translating discs read the radial closures (fixed: left 0)
-                rk[keep] = cm.pin_radial_closure(pin_phase(j, chi, zp, discs), c.k1)
-            dk[keep] = j // zp
-            keep += 1
-    npos, nneg = -1, 0
-    if not every:  # fixed gaps: in closure order (set_load stops each run at its first open contact)
-        order, npos, nneg = closure_order(gk, lk, keep)
-        gk, lk, ak, rk, dk = gk[order], lk[order], ak[order], rk[order], dk[order]
-    translation = DiscTranslation(np.zeros((N_TRANSLATION_ROWS, discs)), np.empty(keep), np.empty((discs, discs)),
-                                  np.empty(discs))
-    return PinSet(ContactSet(gk, lk, ak, set_bounds(gk, lk, keep), np.zeros(keep), npos, nneg), rk, dk, translation)
+    dk = np.empty(m, dtype=np.int64)
+    for i in range(m):
+        j = order[i]
+        gk[i] = g[j]
+        lk[i] = lev[j]
+        ak[i] = laws[j]
+        dk[i] = j // zp
+        if translating:  # only translating discs read the radial closures (fixed: left 0)
+            rk[i] = cm.pin_radial_closure(pin_phase(j, chi, zp, discs), c.k1)
+    # the discs' translations' state: read only when they translate (solve_pins, seat_angle_rad)
+    rows, n_shift, n_sys = (discs, m, discs) if translating else (0, 0, 0)
+    translation = DiscTranslation(np.zeros((N_TRANSLATION_ROWS, rows)), np.empty(n_shift), np.empty((n_sys, n_sys)),
+                                  np.empty(n_sys))
+    return PinSet(ContactSet(gk, lk, ak, set_bounds(gk, lk, m), np.zeros(m), npos, nneg), rk, dk, translation)
 
 
 @njit(nogil=True, cache=True)
@@ -706,8 +660,12 @@ def _chain_angles(t_el, side, unit, support_um, c, state, out):
     if c.rollers_symmetric and load != 0.0 and abs(load) == st.rollers_last_load_n:
         dr = s * st.rollers_last_um  # an even number of rollers, one on the load line: the mirror of the last solve
     else:
-        dr = solve_set(rollers, ContactLaw(c.roller_b, c.roller_n, 1.0), load, s, st.rollers_start[k],
-                       (np.nan, np.nan)).x
+        sol = solve_set(rollers, ContactLaw(c.roller_b, c.roller_n, 1.0), load, s, st.rollers_start[k],
+                        (st.rollers_tangent_load_n[k], st.rollers_tangent_stiffness[k]))
+        dr = sol.x
+        if not math.isnan(sol.stiffness):
+            st.rollers_tangent_load_n[k] = load
+            st.rollers_tangent_stiffness[k] = sol.stiffness
         st.rollers_last_load_n = abs(load)
         st.rollers_last_um = abs(dr)
     if t_el != 0.0:

@@ -26,7 +26,11 @@ SETTLE = 1e-4  # set_load: a force is stepped again while its relative error bou
 #                 (steps s/F > ~0.07: below, the (s/F)^2 bound holds well within solve_set's factor-2
 #                 margin; 1e-3 let a bracket move wrongly)
 LN_FORCE_GUESS = 6.0  # ln(400 N): start of the inversion of Johnson's law (pin and roller loads 10 N - 10 kN)
+FIRST_STEPS = 2  # solve_set: law steps of every contact at a solve's first evaluation (its forces are the last
+#                   solve's): a fixed count, not a test on each step's error bound, which the CPU cannot predict
+#                   (~1 us per unit of mispredicted branches; issue 28)
 SOLVE_RTOL = 1e-11  # solve_set stops when the load's residual and its error bound are below this share of it
+WALK_RATIO = 1.5  # solve_set: a load this many times the last one's is started from closure_prediction
 TRANSLATION_STEP_UM = 1e-6  # solve_pins: a Newton step on the translations below this ends the rounds
 TINY_TORQUE = 1e-12  # of T_R: the torque at which a translating disc's dead-band edge is read
 POSITIVE, NEGATIVE = 0, 1  # a warm start's side: the last solve under a positive or a negative load
@@ -130,7 +134,8 @@ class SupportSet(NamedTuple):
 # number of rollers, one on the load line, deflects alike under a load and its mirror: no solve).
 SOLVE_STATE = np.dtype([("pins_start", np.float64, (2,)), ("rollers_start", np.float64, (2,)),
                         ("support_start", np.float64, (2,)), ("pins_tangent_load_nm", np.float64, (2,)),
-                        ("pins_tangent_stiffness", np.float64, (2,)), ("rollers_last_load_n", np.float64),
+                        ("pins_tangent_stiffness", np.float64, (2,)), ("rollers_tangent_load_n", np.float64, (2,)),
+                        ("rollers_tangent_stiffness", np.float64, (2,)), ("rollers_last_load_n", np.float64),
                         ("rollers_last_um", np.float64), ("support_last_load_n", np.float64),
                         ("support_last_um", np.float64)])
 
@@ -147,6 +152,8 @@ def new_state():
         st.support_start[i] = np.nan
         st.pins_tangent_load_nm[i] = np.nan
         st.pins_tangent_stiffness[i] = np.nan
+        st.rollers_tangent_load_n[i] = np.nan
+        st.rollers_tangent_stiffness[i] = np.nan
     st.rollers_last_load_n = np.nan
     st.rollers_last_um = np.nan
     st.support_last_load_n = np.nan
@@ -203,9 +210,12 @@ def law_force(delta_um, a, b, n, f0):
 
 
 @njit(nogil=True, cache=True, inline="always")
-def _settled_force(d, a, b, n, f0):
-    """law_step from f0, repeated while its error bound is above SETTLE (set_load)."""
+def _settled_force(d, a, b, n, f0, steps):
+    """law_step from f0, ``steps`` times, then repeated while its error bound is above SETTLE
+    (set_load). A branch on each step's error is hard to predict; a count is not."""
     f, df, e = law_step(d, a, b, n, f0)
+    for _ in range(steps - 1):
+        f, df, e = law_step(d, a, b, n, f)
     for _ in range(30):  # settle: quadratic once close, 1-3 steps from a warm start
         if e <= SETTLE:
             break
@@ -214,13 +224,13 @@ def _settled_force(d, a, b, n, f0):
 
 
 @njit(nogil=True, cache=True, inline="always")
-def set_load(x, cs, law):
+def set_load(x, cs, law, steps):
     """(load, dload/dx, bound of the load's error, scale sum |F_j levers_j|) of ContactSet ``cs``
     at x: contact j closes by delta_j = levers_j x - gaps_j and pushes back with F_j(delta_j)
     (``law_step`` with ``law`` (ContactLaw) from cs.forces[j], its force at the previous
-    evaluation, repeated while the error bound is above SETTLE; 0 when open); load = scale sum F_j
-    levers_j. Below SETTLE the forces are refined along with x (one step per evaluation,
-    ``solve_set``), which stops only once the bound is below 1e-11 of the load.
+    evaluation, ``steps`` times, then repeated while the error bound is above SETTLE; 0 when
+    open); load = scale sum F_j levers_j. Below SETTLE the forces are refined
+    along with x (``solve_set``), which stops only once the bound is below 1e-11 of the load.
     ``cs.npos`` >= 0: the contacts are in closure order (``closure_order``): npos with levers > 0
     by gap / lever rising, then nneg with levers < 0 by gap / lever falling, then the rest; the
     closed ones of each run are a prefix, so each run stops at its first open contact (whose
@@ -244,7 +254,7 @@ def set_load(x, cs, law):
                     break  # a sorted run: every contact after it is open too
                 work[j] = 0.0
                 continue
-            f, df, e = _settled_force(d, law_a[j], b, n, work[j])
+            f, df, e = _settled_force(d, law_a[j], b, n, work[j], steps)
             work[j] = f
             fl = f * abs(levers[j])
             g += f * levers[j]
@@ -317,6 +327,54 @@ def set_bounds(gaps, levers, m):
     return Bounds(hi, lo, tiny)
 
 
+@njit(nogil=True, cache=True, inline="always")
+def closure_prediction(cs, law, load, x0):
+    """A start for ``solve_set`` far from its last solution: the x at which ContactSet ``cs`` (in
+    closure order) would carry ``load``, from x0, the last solution under a smaller load of the same
+    sign, if each contact closed at x0 kept its tangent stiffness k_j there (its force
+    F_j + k_j (delta_j(x) - delta_j(x0)), F_j from cs.forces) and each contact closing beyond x0 that
+    of the last one closed: a piecewise-linear load whose root is found by walking the loaded run
+    in closure order (no logarithm). Tangents: Johnson (n = 1) dF/ddelta = F / (delta - b F),
+    Palmgren F / (n delta). NaN when there is no prediction: no closure order, a contact of the
+    other run closed at x0 (a preloaded set), nothing closed at x0, or a tangent that is not
+    positive (forces not of x0)."""
+    if cs.npos < 0 or load == 0.0:
+        return np.nan
+    gaps, levers, forces = cs.gaps, cs.levers, cs.forces
+    b, n = law.b, law.n
+    first, end = (0, cs.npos) if load > 0.0 else (cs.npos, cs.npos + cs.nneg)
+    other, other_end = (cs.npos, cs.npos + cs.nneg) if load > 0.0 else (0, cs.npos)
+    if other < other_end and levers[other] * x0 - gaps[other] > 0.0:
+        return np.nan
+    stiffness = 0.0  # sum k_j L_j^2: the model's dload/dx (unscaled)
+    offset = 0.0  # the model's load at x = 0 (unscaled)
+    k = 0.0
+    j = first
+    while j < end:
+        lever = levers[j]
+        d = lever * x0 - gaps[j]
+        if d <= 0.0:
+            break
+        f = forces[j]
+        k = f / (d - b * f) if b > 0.0 else f / (n * d)
+        if not (f > 0.0 and k > 0.0 and k < np.inf):
+            return np.nan
+        stiffness += k * lever * lever
+        offset += lever * (f - k * lever * x0)
+        j += 1
+    if stiffness <= 0.0:
+        return np.nan
+    target = load / law.scale
+    x = (target - offset) / stiffness
+    while j < end and levers[j] * x - gaps[j] > 0.0:  # the next contact closes before x: it carries too
+        lever = levers[j]
+        stiffness += k * lever * lever
+        offset -= k * lever * gaps[j]
+        x = (target - offset) / stiffness
+        j += 1
+    return x
+
+
 @njit(nogil=True, cache=True)
 def solve_set(cs, law, load, side, guess, tangent):
     """The SetSolution of ContactSet ``cs`` (ContactLaw ``law``) carrying ``load`` (its sign: the
@@ -328,14 +386,19 @@ def solve_set(cs, law, load, side, guess, tangent):
     free, so load(hi) <= 0. The contact with the largest lever L alone carries the load once it
     has closed by delta(load / (scale L)), at x_t; beyond lo nothing pulls back; so
     load(max(lo, x_t)) >= load. Newton inside the bracket, bisection when a step leaves it. The
-    contacts' forces are refined along (one ``law_step`` per evaluation); the bracket moves only
+    contacts' forces are refined along (FIRST_STEPS ``law_step`` at the first evaluation, then one
+    per evaluation while within SETTLE); the bracket moves only
     where the load's error bound cannot flip the sign of the residual, else the forces settle in
     place. Stops when the residual and its error bound are below 1e-11 of the load (or of the
     contacts' loads, at a preloaded equilibrium: SOLVE_RTOL).
     ``tangent``: (load_0, K_0), the load at which ``guess`` was solved and the set's stiffness
     dload/dx there (K_0 NaN: unknown); the solve then starts from the tangent's prediction guess +
     (load - load_0) / K_0 when it lies in the bracket, or from the bracket's loaded end when the
-    prediction passes it (saving the evaluation at the guess)."""
+    prediction passes it (saving the evaluation at the guess). Two better starts from it: power-law
+    contacts (b = 0, n < 1) under a larger load stiffen at least as one contact does, load ~
+    (x - x_e)^(1/n), and a set in closure order under a load more than WALK_RATIO times the last
+    is walked (``closure_prediction``); both cut the evaluations of a unit's loop (the crank
+    bearings' rollers 27 -> 19, the pins' 53 -> 51 per unit; issue 28)."""
     gaps, levers, law_a, npos, nneg = cs.gaps, cs.levers, cs.law_a, cs.npos, cs.nneg
     b, n, scale = law.b, law.n, law.scale
     m = gaps.size
@@ -374,13 +437,13 @@ def solve_set(cs, law, load, side, guess, tangent):
     if cs.bounds.tiny:  # interfering tip/root contacts: make sure the bracket holds the root
         width = max(xh - xl, 1e-12)
         for _ in range(80):
-            if set_load(xl, cs, law)[0] <= load:
+            if set_load(xl, cs, law, 1)[0] <= load:
                 break
             xl -= width
             width *= 2.0
         width = max(xh - xl, 1e-12)
         for _ in range(80):
-            if set_load(xh, cs, law)[0] >= load:
+            if set_load(xh, cs, law, 1)[0] >= load:
                 break
             xh += width
             width *= 2.0
@@ -388,6 +451,14 @@ def solve_set(cs, law, load, side, guess, tangent):
         x = guess
         if load != 0.0 and tangent[1] > 0.0:
             pred = guess + (load - tangent[0]) / tangent[1]
+            if b == 0.0 and n < 1.0 and load * tangent[0] > 0.0 and abs(load) > abs(tangent[0]):
+                # a set of power-law contacts stiffens at least as one contact does, load ~ (x - x_e)^(1/n):
+                # from the tangent (load_0, K_0), x - x_e = load_0 / (n K_0) there
+                pred = guess + tangent[0] / (n * tangent[1]) * ((load / tangent[0]) ** n - 1.0)
+            if abs(load) > WALK_RATIO * abs(tangent[0]) and load * tangent[0] > 0.0:  # far: walk the contacts
+                walked = closure_prediction(cs, law, load, guess)
+                if math.isfinite(walked):
+                    pred = walked
             if xl < pred < xh:
                 x = pred
             elif (pred >= xh) if load > 0.0 else (pred <= xl):  # past the loaded end: that end is closer
@@ -395,8 +466,10 @@ def solve_set(cs, law, load, side, guess, tangent):
     else:
         x = xh if load > 0.0 else (xl if load < 0.0 else 0.5 * (xl + xh))
     tol = 1e-13 * (abs(xl) + abs(xh)) + 1e-300
+    steps = FIRST_STEPS if law.b > 0.0 else 1  # (Palmgren's closed form is exact in one)
     for _ in range(300):
-        g, dg, err, gabs = set_load(x, cs, law)
+        g, dg, err, gabs = set_load(x, cs, law, steps)
+        steps = 1
         f = g - load
         ftol = SOLVE_RTOL * max(abs(load), gabs)
         if err <= ftol and abs(f) <= ftol:
