@@ -283,3 +283,23 @@ def test_crowned_needles_need_their_drop():
     with pytest.raises(InputError, match="crank_bearing_roller_crown_drop_um"):
         check_profile("crank_bearing_roller", "crowned", None, None)
     check_profile("crank_bearing_roller", "crowned", 3.0, None)
+
+
+@pytest.mark.parametrize("clearance_um", [4.0, 0.0, -3.0])
+def test_paired_power_law_rollers_carry_what_every_roller_does(model, clearance_um):
+    """chain.paired_rollers: under the profiled needles' power law the rollers at psi and -psi are
+    one contact of twice the force (a 2^-n): the same load and stiffness as every roller on its own,
+    at every rotation, with a clearance, without and preloaded; 10 contacts instead of 18."""
+    c = model.chain
+    assert c.roller_b == 0.0  # rv80e's needles are profiled (logarithmic): a fitted power law
+    law = sv.ContactLaw(0.0, c.roller_n, 1.0)
+    paired = ch.paired_rollers(clearance_um, model.roller_cos, c)
+    every = ch.prepare_rollers(clearance_um, model.roller_cos, c)
+    z = model.roller_cos.size
+    assert paired.gaps.size == z // 2 + 1 < z
+    for x in (-12.0, -2.5, 0.3, 2.1, 5.0, 11.0):
+        load, stiffness = sv.set_load(x, paired, law, 1)[:2]
+        load_every, stiffness_every = sv.set_load(x, every, law, 1)[:2]
+        assert load == pytest.approx(load_every, rel=1e-13, abs=1e-9)
+        assert stiffness == pytest.approx(stiffness_every, rel=1e-13, abs=1e-9)
+    assert abs(sv.set_load(11.0, every, law, 1)[0]) > 100.0  # loads, not zeros

@@ -572,11 +572,35 @@ def prepare_pins(unit, c, translating, table):
 
 @njit(nogil=True, cache=True)
 def prepare_rollers(crank_clearance_um, roller_cos, c):
-    """One crank bearing's rollers (a ContactSet): gap G_r / 2 each, lever cos(psi_i)."""
+    """One crank bearing's rollers (a ContactSet): gap G_r / 2 each, lever cos(psi_i); each roller its
+    own contact (``paired_rollers``: the set a unit's loop solves)."""
     z = roller_cos.size
     g = np.full(z, 0.5 * crank_clearance_um)
     la = np.full(z, c.roller_a)
     return ContactSet(g, roller_cos, la, set_bounds(g, roller_cos, z), np.zeros(z), -1, 0)
+
+
+@njit(nogil=True, cache=True)
+def paired_rollers(crank_clearance_um, roller_cos, c):
+    """``prepare_rollers`` as a unit's loop solves it with the chain's roller law: under a power law
+    (b = 0: delta = a F^n, the profiled needles' fitted law) the rollers at psi_i and -psi_i
+    (psi_i = 2 pi i / Z: the same lever and gap) are one contact of twice the force, a 2^-n, so one
+    power instead of two (the same load, to rounding; 10 contacts for 18 rollers); under Johnson's
+    law, or a layout that is not symmetric, each roller is its own contact."""
+    z = roller_cos.size
+    paired = c.roller_b == 0.0
+    for i in range(1, z):
+        paired = paired and abs(roller_cos[i] - roller_cos[z - i]) <= 1e-12
+    if not paired:
+        return prepare_rollers(crank_clearance_um, roller_cos, c)
+    m = z // 2 + 1
+    lv = np.empty(m)
+    la = np.empty(m)
+    for i in range(m):
+        lv[i] = roller_cos[i]
+        la[i] = c.roller_a if i == 0 or 2 * i == z else c.roller_a * 2.0 ** -c.roller_n
+    g = np.full(m, 0.5 * crank_clearance_um)
+    return ContactSet(g, lv, la, set_bounds(g, lv, m), np.zeros(m), -1, 0)
 
 
 def prepare_support(c: Chain, roller: SlicedRoller | None = None):

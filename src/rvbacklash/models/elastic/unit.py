@@ -22,8 +22,8 @@ from rvbacklash.models.contact import mesh_table, pin_gaps, stage_work, unit_gap
 from rvbacklash.models.elastic.chain import (BACKLASH, LOST_MOTION, N_ELEMENTS, N_FIGURES, PIN_SEATING, PINS, RIGIDITY,
                                              Chain,
                                              ElasticModel, LoopPoints, LoopUnit, branch_angles, chain_angles,
-                                             fill_pin_law, loop_figures, loop_points, pin_phase, prepare_pins,
-                                             prepare_rollers, prepare_support)
+                                             fill_pin_law, loop_figures, loop_points, paired_rollers, pin_phase,
+                                             prepare_pins, prepare_support)
 from rvbacklash.models.elastic.solver import Y, law_force, new_state
 from rvbacklash.models.unit_errors import Realization, unit_errors
 from rvbacklash.problem import Problem
@@ -68,7 +68,7 @@ def unit_hysteresis(unit, design, out):
     records cost ~0.5 us (2 %) in reference counts."""
     c = design.chain
     pins = prepare_pins(unit, c, c.radial_stiffness_n_per_um < np.inf, design.pin_laws)
-    rollers = prepare_rollers(unit.crank_clearance_um, design.roller_cos, c)
+    rollers = paired_rollers(unit.crank_clearance_um, design.roller_cos, c)
     loop_figures(LoopUnit(pins, rollers, max(unit.involute_backlash_rad, 0.0)), design.points, c, new_state(), out,
                  np.empty(N_ELEMENTS))
 
@@ -133,7 +133,7 @@ class PreparedUnit:
         self.support = prepare_support(c, model.support_roller)
         pins = prepare_pins(unit._replace(chi_rad=float(unit.chi_rad)), c, model.translating,
                             np.empty((0, unit.gap_um.size)))
-        self.loop = LoopUnit(pins, prepare_rollers(unit.crank_clearance_um, model.roller_cos, c),
+        self.loop = LoopUnit(pins, paired_rollers(unit.crank_clearance_um, model.roller_cos, c),
                              max(unit.involute_backlash_rad, 0.0))
 
     def figures(self) -> np.ndarray:
