@@ -752,23 +752,37 @@ def sliced_roller_approach_um(load_n, tilt_rad, x_mm, drop_um, a, b, n):
     side = 0
     x = hi
     for _ in range(300):
-        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not (lo < x < hi):
-            x = 0.5 * (lo + hi)
+        x = illinois_point(lo, flo, hi, fhi)
         fx = sliced_roller_load_n(x, tilt_rad, x_mm, drop_um, a, b, n) - load_n
         if fx == 0.0 or hi - lo <= 1e-14 * (abs(lo) + abs(hi)):
             return x
-        if fx > 0.0:
-            hi, fhi = x, fx
-            if side == 1:
-                flo *= 0.5
-            side = 1
-        else:
-            lo, flo = x, fx
-            if side == -1:
-                fhi *= 0.5
-            side = -1
+        lo, flo, hi, fhi, side = illinois_bracket(x, fx, lo, flo, hi, fhi, side)
     return x
+
+
+@njit(cache=True)
+def illinois_point(lo, flo, hi, fhi):
+    """The next point of the Illinois regula falsi on the bracket [lo, hi] of an increasing f
+    (flo <= 0 <= fhi): the secant's root, or the middle when the secant leaves the bracket or is
+    flat. Source: Dowell & Jarratt, BIT 11 (1971) 168-174 (the Illinois method)."""
+    x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+    if not (lo < x < hi):
+        x = 0.5 * (lo + hi)
+    return x
+
+
+@njit(cache=True)
+def illinois_bracket(x, fx, lo, flo, hi, fhi, side):
+    """(lo, flo, hi, fhi, side): the bracket after f(x) = fx (``illinois_point``): x replaces the end
+    of its sign; when the same end moves twice running (``side``: +1 hi, -1 lo, 0 none yet), the
+    other end's value is halved, so that the secant cannot stall against it (Illinois)."""
+    if fx > 0.0:
+        if side == 1:
+            flo *= 0.5
+        return lo, flo, x, fx, 1
+    if side == -1:
+        fhi *= 0.5
+    return x, fx, hi, fhi, -1
 
 
 def crank_support_slope_rad_per_n(span_mm: float, load_offset_mm: float, diameter_mm: float, e_gpa: float) -> float:

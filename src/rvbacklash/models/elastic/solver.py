@@ -697,21 +697,10 @@ def solve_sliced_set(cs, roller, a, b, n, cos_alpha, load, side):
     x = xh
     last = 0
     for _ in range(400):
-        x = xh - fh * (xh - xl) / (fh - fl) if fh != fl else 0.5 * (xl + xh)
-        if not (xl < x < xh):
-            x = 0.5 * (xl + xh)
+        x = cm.illinois_point(xl, fl, xh, fh)
         f, scale = sliced_set_load(x, cs, roller, a, b, n, cos_alpha, tilt)
         f -= load
         if abs(f) <= 1e-12 * max(abs(load), scale) or xh - xl <= 1e-14 * (abs(xl) + abs(xh)):
             return x
-        if f > 0.0:
-            xh, fh = x, f
-            if last == 1:
-                fl *= 0.5
-            last = 1
-        else:
-            xl, fl = x, f
-            if last == -1:
-                fh *= 0.5
-            last = -1
+        xl, fl, xh, fh, last = cm.illinois_bracket(x, f, xl, fl, xh, fh, last)
     return x
