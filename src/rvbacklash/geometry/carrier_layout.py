@@ -28,8 +28,10 @@ def pillar_angle_rad(k: int, cranks: int, pillars: int) -> float:
     pi / lcm, for phi_0 = pi / lcm. So pillars sit midway between cranks when n_p = n_c (rv80e:
     60 degrees from them), on both sides of each crank when n_p is a multiple of n_c (2 cranks, 4
     pillars: 45, 135, 225, 315 degrees; 3 and 6: 30 degrees either side), and never on a crank.
+    Written 2 pi (k + n_p / (2 lcm)) / n_p: for n_p a multiple of n_c the carrier's 2 pi (k + 1/2) / n_p
+    to the bit (its sector's cut through the pillars, and so its mesh, are as before).
     Validity: n_c, n_p >= 1."""
-    return math.pi / math.lcm(cranks, pillars) + 2.0 * math.pi * k / pillars
+    return 2.0 * math.pi * (k + 0.5 * pillars / math.lcm(cranks, pillars)) / pillars
 
 
 def pillar_angles_rad(cranks: int, pillars: int) -> tuple[float, ...]:
