@@ -68,11 +68,12 @@ def example_with(name: str, *replacements: tuple[str, str]):
 CRANK_LAYOUTS = {
     (3, 3): (),
     (2, 2): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"),),
-    (2, 4): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"), ("pillar_radius_mm = 42.0", "pillar_radius_mm = 48.0"),
+    (2, 4): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"),
+             ("pillar_radius_mm = 42.0", "pillar_radius_mm = 48.0"),
              ("pillar_width_mm = 20.0", "pillar_width_mm = 12.0"), ("pillar_depth_mm = 20.0", "pillar_depth_mm = 12.0"),
              ("disc_pillar_hole_diameter_mm = 34.0", "disc_pillar_hole_diameter_mm = 22.0")),
-    (3, 6): (("pillar_radius_mm = 42.0", "pillar_radius_mm = 57.0"), ("pillar_width_mm = 20.0", "pillar_width_mm = 8.0"),
-             ("pillar_depth_mm = 20.0", "pillar_depth_mm = 8.0"),
+    (3, 6): (("pillar_radius_mm = 42.0", "pillar_radius_mm = 57.0"),
+             ("pillar_width_mm = 20.0", "pillar_width_mm = 8.0"), ("pillar_depth_mm = 20.0", "pillar_depth_mm = 8.0"),
              ("disc_pillar_hole_diameter_mm = 34.0", "disc_pillar_hole_diameter_mm = 16.0"),
              ("support_bearing_seat_diameter_mm = 47.0", "support_bearing_seat_diameter_mm = 44.0")),
 }

@@ -22,6 +22,11 @@ main_bearing_stiffness_nm_per_arcmin`` and ``structure_stiffness_nm_per_arcmin``
 measured value wins over the derivation (``structure_stiffness_nm_per_arcmin`` replaces the
 crankshafts, support bearings and carrier).
 
+With other than two discs the crankshafts, support bearings and carrier (derived for two discs
+symmetric about the crank's mid-span) must be stated (``elastic.structure_stiffness_nm_per_arcmin``);
+the table then still gives the disc bodies' FE and the discs' sideways motion across the eccentric
+(``models/elastic/chain.py``, ``with_structure``; docs/elastic.md).
+
 No field has a default that stands for a dimension: a design states its own (the rv80e example
 says where each of its numbers comes from). Materials default to steel (handbook values).
 

@@ -3,7 +3,7 @@ its dimensions (``CarrierGeometry``) and its gmsh mesh (``build_mesh``).
 
 z along the reducer's axis. The output flange is a plate z = 0 ... t_f (outer diameter D,
 central hole d_b); the pillars (n_p, tangential width w, radial depth h, free length L, centred
-on the radius R_p half a crank pitch from the cranks) stand on it up to the end plate, z = t_f +
+on the radius R_p between the cranks, geometry/carrier_layout.py) stand on it up to the end plate, z = t_f +
 L ... t_f + L + t_e (same outline). Both plates have a through bore of the support bearings'
 outer diameter D_s at each crank, on the crank circle a0: the seats. One fused OCC solid; when the
 pillars repeat with the cranks only one sector of it is meshed (``sectors``), its two cut faces

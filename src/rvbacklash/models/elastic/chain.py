@@ -268,11 +268,11 @@ def with_profiled_needles(model: ElasticModel) -> ElasticModel:
     roller = sliced_roller(e.crank_bearing_roller_profile, e.crank_bearing_roller_length_mm,
                            e.crank_bearing_roller_diameter_mm, False, e.crank_bearing_roller_crown_drop_um,
                            e.crank_bearing_roller_log_scale_um)
-    q_min, q_max = fit_load_range_n(lambda load: most_loaded_roller_n(model.roller_cos, c, 0.0, load),
-                                    c.rated_torque_nm * c.bearing_force_n_per_nm)
+    rated = c.rated_torque_nm * c.bearing_force_n_per_nm
+    q_min, q_max = fit_load_range_n(lambda load: most_loaded_roller_n(model.roller_cos, c, 0.0, load), rated)
     fit = fit_roller_law(roller, c.roller_a, c.roller_b, c.law_n, q_min, q_max)
     fitted = c._replace(roller_a=fit.a, roller_b=0.0, roller_n=fit.n)
-    q_fit = most_loaded_roller_n(model.roller_cos, fitted, 0.0, c.rated_torque_nm * c.bearing_force_n_per_nm)
+    q_fit = most_loaded_roller_n(model.roller_cos, fitted, 0.0, rated)
     if q_fit > q_max:  # the profiled rollers share the load differently: cover their own range
         fit = fit_roller_law(roller, c.roller_a, c.roller_b, c.law_n, q_min, q_fit)
         fitted = c._replace(roller_a=fit.a, roller_b=0.0, roller_n=fit.n)
