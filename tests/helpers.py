@@ -62,3 +62,29 @@ def example_with(name: str, *replacements: tuple[str, str]):
         assert old in text, old
         text = text.replace(old, new, 1)
     return design_from_toml(text)
+
+
+# rv80e with other numbers of cranks and pillars (issue 36): the lines changed so that the holes fit
+CRANK_LAYOUTS = {
+    (3, 3): (),
+    (2, 2): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"),),
+    (2, 4): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"),
+             ("pillar_radius_mm = 42.0", "pillar_radius_mm = 48.0"),
+             ("pillar_width_mm = 20.0", "pillar_width_mm = 12.0"), ("pillar_depth_mm = 20.0", "pillar_depth_mm = 12.0"),
+             ("disc_pillar_hole_diameter_mm = 34.0", "disc_pillar_hole_diameter_mm = 22.0")),
+    (3, 6): (("pillar_radius_mm = 42.0", "pillar_radius_mm = 57.0"),
+             ("pillar_width_mm = 20.0", "pillar_width_mm = 8.0"), ("pillar_depth_mm = 20.0", "pillar_depth_mm = 8.0"),
+             ("disc_pillar_hole_diameter_mm = 34.0", "disc_pillar_hole_diameter_mm = 16.0"),
+             ("support_bearing_seat_diameter_mm = 47.0", "support_bearing_seat_diameter_mm = 44.0")),
+}
+
+
+def crank_layout_text(cranks: int, pillars: int) -> str:
+    """rv80e's TOML with ``cranks`` planets (cranks) and ``pillars`` carrier pillars (CRANK_LAYOUTS:
+    two cranks rated 520 N m; pillars and holes small enough to stand between the cranks)."""
+    text = example_text("rv80e").replace("planets = 3", f"planets = {cranks}", 1).replace(
+        "carrier_pillars = 3", f"carrier_pillars = {pillars}", 1)
+    for old, new in CRANK_LAYOUTS[(cranks, pillars)]:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return text

@@ -51,8 +51,8 @@ ASSUMPTIONS_STRUCTURE = (
 CARRIER_FE = ("the carrier (output flange, pillars, end plate) as one 3-D finite-element body held at the flange's "
               "outer face")
 CARRIER_BEAMS = "carrier pillars (clamped beams in rigid plates)"
-DISCS_FE = ("the disc bodies by plane-stress finite elements (designed unit's pin forces at the top of the rigidity "
-            "interval, bores on the needle bearings' secant stiffness)")
+DISCS_FE = ("the disc bodies by plane-stress finite elements (loaded by the nominal unit's change of pin forces over "
+            "the rigidity interval, bores on the needle bearings' secant stiffness)")
 DISCS_RIGID = "the disc bodies rigid"
 
 

@@ -22,6 +22,11 @@ main_bearing_stiffness_nm_per_arcmin`` and ``structure_stiffness_nm_per_arcmin``
 measured value wins over the derivation (``structure_stiffness_nm_per_arcmin`` replaces the
 crankshafts, support bearings and carrier).
 
+With other than two discs the crankshafts, support bearings and carrier (derived for two discs
+symmetric about the crank's mid-span) must be stated (``elastic.structure_stiffness_nm_per_arcmin``);
+the table then still gives the disc bodies' FE and the discs' sideways motion across the eccentric
+(``models/elastic/chain.py``, ``with_structure``; docs/elastic.md).
+
 No field has a default that stands for a dimension: a design states its own (the rv80e example
 says where each of its numbers comes from). Materials default to steel (handbook values).
 
@@ -77,6 +82,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rvbacklash.design.elastic import check_profile
 from rvbacklash.errors import InputError
+from rvbacklash.geometry.carrier_layout import crank_angles_rad, pillar_angles_rad
 from rvbacklash.geometry.reducer import centre_distance_mm
 from rvbacklash.geometry.disc_holes import crank_bore_diameter_mm, disc_holes, pillar_hole_clearance_diameter_mm
 
@@ -306,8 +312,8 @@ def _rectangle_distance_mm(x: float, y: float, angle_rad: float, radius_mm: floa
 
 def _check_carrier_seats(design, st: StructureInputs) -> None:
     """The FE carrier's support-bearing seats (bores of support_bearing_seat_diameter_mm on the crank
-    circle, one per crank in each plate; pillars half a crank pitch from the cranks, as
-    mechanics/carrier_body.py builds them) inside the plates with walls of MIN_WALL_MM to the
+    circle, one per crank in each plate; pillars where geometry/carrier_layout.py places them, as
+    mechanics/carrier_mesh.py builds them) inside the plates with walls of MIN_WALL_MM to the
     outline, the central hole, each other and the pillars, and larger than the crankshaft's
     journal (the bearing's bore)."""
     s1, s3 = design.first_stage, design.crank_stage
@@ -319,10 +325,9 @@ def _check_carrier_seats(design, st: StructureInputs) -> None:
         limits["the central hole"] = 2.0 * (a0 - 0.5 * st.carrier_bore_diameter_mm - MIN_WALL_MM)
     if cranks > 1:
         limits["the next seat"] = 2.0 * a0 * math.sin(math.pi / cranks) - MIN_WALL_MM
-    gaps = [_rectangle_distance_mm(a0 * math.cos(2 * math.pi * j / cranks), a0 * math.sin(2 * math.pi * j / cranks),
-                                   2 * math.pi * (i + 0.5) / st.carrier_pillars, st.pillar_radius_mm,
+    gaps = [_rectangle_distance_mm(a0 * math.cos(crank), a0 * math.sin(crank), pillar, st.pillar_radius_mm,
                                    st.pillar_depth_mm, st.pillar_width_mm)
-            for j in range(cranks) for i in range(st.carrier_pillars)]
+            for crank in crank_angles_rad(cranks) for pillar in pillar_angles_rad(cranks, st.carrier_pillars)]
     limits["the pillars"] = 2.0 * (min(gaps) - MIN_WALL_MM)
     binding = min(limits, key=limits.get)
     journal = st.crankshaft_diameter_mm
