@@ -40,9 +40,12 @@ class Row:
     target: float
     higher_is_better: bool
     note: str = ""
+    failed: bool = False  # the row's command failed: no figure, the note says why
 
     @property
     def verdict(self) -> str:
+        if self.failed:
+            return "FAILED"
         if self.value is None:
             return "skipped"
         ok = self.value >= self.target if self.higher_is_better else self.value <= self.target
@@ -70,17 +73,18 @@ def model_rate(model: str, samples: int) -> float:
 
 
 def command_row(args: list[str], target_s: float, skip: bool) -> Row:
-    """Wall time of one CLI command in a fresh process (start-up included, as a user waits)."""
+    """Wall time of one CLI command in a fresh process (start-up included, as a user waits). A
+    command that fails (any non-zero exit, e.g. exit 2 "no design confirmed") has no time: the
+    row says FAILED and gives the command's message."""
     label = "`rvbacklash " + " ".join(args) + "`"
     if skip:
         return Row(label, None, "s", target_s, False, "left out (--no-commands)")
     t = time.perf_counter()
     p = subprocess.run([sys.executable, "-m", "rvbacklash", *args, "--quiet"], capture_output=True, text=True)
     seconds = time.perf_counter() - t
-    if p.returncode == 2:  # a one-line answer such as "no design meets the target": the user waited for it
-        return Row(label, seconds, "s", target_s, False, f"wall time to the answer, exit 2: {p.stderr.strip()[-70:]}")
     if p.returncode:
-        return Row(label, None, "s", target_s, False, f"exit {p.returncode}: {p.stderr.strip()[-80:]}")
+        message = " ".join(p.stderr.strip().splitlines()[-1:])[-100:]
+        return Row(label, None, "s", target_s, False, f"exit {p.returncode}: {message}", failed=True)
     return Row(label, seconds, "s", target_s, False, "wall time, fresh process")
 
 
