@@ -26,7 +26,6 @@ from typing import NamedTuple
 
 from rvbacklash._numba import njit, njit_borrowing
 import numpy as np
-from scipy import optimize
 
 from rvbacklash.geometry.cycloid import ContactGeometry, PinCentreCurve, rotate
 from rvbacklash.models.unit_errors import Realization, unit_errors
@@ -787,6 +786,8 @@ def _exact_root(f, start: float, step: float) -> float:
         lo, hi, step = hi, hi + step, 2 * step
     else:  # pragma: no cover - a cycloid stage always has pins on both sides
         raise ArithmeticError("exact play: no contact in this direction")
+    from scipy import optimize  # here: scipy.optimize costs a third of a second to import, and a run never needs it
+
     return optimize.brentq(f, *sorted((lo, hi)), xtol=1e-14, rtol=1e-12)
 
 
@@ -811,6 +812,8 @@ def exact_play(g: ContactGeometry, r: Realization) -> MeshPlay:
 
     def central(fn, guess: float) -> tuple[float, float]:
         """(beta, value) of the maximum of fn near guess (fn is concave near its maximum)."""
+        from scipy import optimize  # here, as in _exact_root
+
         width = 2.0 * max(abs(guess), 1.0 / scale)
         res = optimize.minimize_scalar(lambda b: -fn(b), bounds=(guess - width, guess + width), method="bounded",
                                        options={"xatol": 1e-14 + 1e-9 * abs(guess)})
