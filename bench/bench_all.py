@@ -6,8 +6,10 @@ Rows, each with its target and pass/fail:
 1. contact model production run (rv80e, end to end through the engine, all cores) [units/s];
 2. elastic model production run (same) [units/s];
 3. wall time of `rvbacklash sensitivity rv80e --model elastic` (default N) [s];
-4. wall time of `rvbacklash allocate rv80e --model elastic --spec-arcmin 1 --yield 0.8
-   --spec-preload-um 10` [s];
+4. wall time of `rvbacklash allocate rv80e --model elastic --spec-arcmin 1.5 --yield 0.8
+   --spec-preload-um 10` [s] (a feasible spec since issue 28's chain: rv80e as given reaches 0.76,
+   the allocation finds grades at 0.80; at 1 arcmin the best candidate reached 0.45, exit 2, and
+   the row timed that refusal);
 5. linear engine (sun2014, 21 normal inputs, all cores) [M samples/s];
 6. its ratio to numpy generating the same N x 21 normals (one thread), measured in the same run.
 The engine and numpy are timed alternately ``--repeat`` times and the best of each is kept: the
@@ -29,7 +31,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_montecarlo import engine_rate, numpy_rate  # noqa: E402
 
 SENSITIVITY = ["sensitivity", "rv80e", "--model", "elastic"]
-ALLOCATE = ["allocate", "rv80e", "--model", "elastic", "--spec-arcmin", "1", "--yield", "0.8", "--spec-preload-um", "10"]
+ALLOCATE = ["allocate", "rv80e", "--model", "elastic", "--spec-arcmin", "1.5", "--yield", "0.8", "--spec-preload-um",
+            "10"]
 
 
 @dataclass(frozen=True)
