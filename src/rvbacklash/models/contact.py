@@ -707,7 +707,8 @@ def exact_disc_gaps(d, beta, chi, stage, unit, out):
 def kernel_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     """The Monte-Carlo kernel's play of one unit at its exact crank angle (no crank-angle steps)."""
     coef = mesh_table(g, np.array([r.chi_rad]))[0]
-    p = stage_play(coef, g.stage_geometry, unit_errors(r), pin_gaps(g.discs, g.zp), stage_work(g.discs, g.zp))
+    p = stage_play(coef, g.stage_geometry, unit_errors(r), pin_gaps(g.discs, g.zp), stage_work(g.discs, g.zp),
+                   True)  # given, not the default: the kernels' compiled stage_play (contact_source.contact_block)
     return MeshPlay((), float(p.preload_um), g.pitch_radius_um, float(p.play_ccw_rad), float(p.play_cw_rad))
 
 
