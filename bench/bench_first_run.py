@@ -119,6 +119,15 @@ def run_example(src: Path, args: list[str], cwd: Path, caches: Path | None) -> d
     return figures
 
 
+def specialisations(cache: Path) -> str:
+    """The functions numba's cache holds more than one compiled signature of, and how many."""
+    counts: dict[str, int] = {}
+    for f in cache.rglob("*.nbc"):
+        name = f.name.split(".py")[0].rsplit("-", 1)[0]  # contact.stage_play-587.py311.2.nbc
+        counts[name] = counts.get(name, 0) + 1
+    return ", ".join(f"{k} x{v}" for k, v in sorted(counts.items()) if v > 1)
+
+
 def print_split(name: str, f: dict) -> None:
     """One line of wall times, one of CPU times: the whole process, then its parts and the rest."""
     skip = ("exit", "cpu", "total wall", "total CPU", "process wall (interpreter included)")
@@ -180,6 +189,8 @@ def main() -> None:
             for name, src in sides.items():
                 caches = tmp / f"caches-{len(name)}-{abs(hash(name))}"
                 print_split(f"{name}, empty caches", run_example(src, args, tmp, caches))
+                if DETAIL:  # a function compiled for several signatures compiles its body once for each
+                    print(f"      several signatures: {specialisations(caches / 'numba') or 'none'}", file=sys.stderr)
                 print_split(f"{name}, warm", run_example(src, args, tmp, caches))
                 shutil.rmtree(caches, ignore_errors=True)
         finally:
