@@ -48,7 +48,7 @@ import os
 import signal
 import sys
 import threading
-from typing import Iterator
+from collections.abc import Iterator
 
 EXIT_CODE = 130  # 128 + SIGINT, what a shell reports for a process ended by Ctrl-C
 

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from rvbacklash.analysis.statistics import (Proportion, occupied_cumulative, process_capability, quantile_with_ci,
+from rvbacklash.analysis.statistics import (Proportion, binomial_quantile, occupied_cumulative, process_capability, quantile_with_ci,
                                            wilson_interval)
 from rvbacklash.sampling import kernels
 from rvbacklash.sampling.engine import HIST_BINS, Histogram
@@ -21,6 +21,15 @@ def test_wilson_interval_is_scipys(n, frac):
     ref = stats.binomtest(k, n).proportion_ci(confidence_level=0.95, method="wilson")
     lo, hi = wilson_interval(k, n)
     assert (lo, hi) == pytest.approx((ref.low, ref.high), rel=1e-9, abs=1e-12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(1, 10 ** 10), st.floats(0, 1), st.sampled_from([0.0, 0.005, 0.025, 0.05, 0.5, 0.95, 0.975, 0.995, 1.0])
+       | st.floats(0, 1))
+def test_binomial_quantile_is_scipy_stats(n, p, q):
+    """The quantile intervals' ranks come from scipy.special's Boost binomial quantile, not
+    scipy.stats (a second of start-up): the same numbers as scipy.stats.binom.ppf, bit for bit."""
+    assert binomial_quantile(q, n, p) == stats.binom.ppf(q, n, p)
 
 
 def test_wilson_by_hand():

@@ -263,7 +263,8 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
             for k in range(zc):
                 teeth[d, k] = teeth0[d, k] + turn * rp * 1e3
         if exact:
-            play = stage_play(coef[n], stage, placed, gaps, scratch.work)
+            play = stage_play(coef[n], stage, placed, gaps, scratch.work, exact)  # exact: True, not as a literal
+            #                                                       (contact_source.contact_block says why)
             free, ccw, cw, preload = not math.isnan(play.play_ccw_rad), play.play_ccw_rad, play.play_cw_rad, \
                 play.preload_um
         else:
