@@ -64,8 +64,8 @@ def test_lost_motion_at_todays_crank_angle_is_todays_play(problem):
         if today.preloaded:
             continue
         res = transmission_error(problem, r, "sampled", 8 * g.zp + 1, shares=False)
-        assert res.lost_motion_reference_arcmin == pytest.approx(today.total_arcmin, abs=1e-6)
-        assert res.lost_motion_reference_arcmin == pytest.approx(exact_play(g, r).total_arcmin, abs=1e-6)
+        assert res.cycloid_stage_reference_arcmin == pytest.approx(today.total_arcmin, abs=1e-6)
+        assert res.cycloid_stage_reference_arcmin == pytest.approx(exact_play(g, r).total_arcmin, abs=1e-6)
         checked += 1
     assert checked >= 3
 

@@ -639,7 +639,10 @@ def _run(plan: SweepPlan, store: SweepStore | None, scheduler, workers, progress
             with ctx as ex:
                 tasks = point_tasks(plan, todo, workers if ex.scheduler == "inline" else 1)
                 for k, outcome in ex.map_unordered(evaluate_point, tasks, stop=ev):
-                    if outcome.partial:  # Ctrl-C inside the point's own run (inline): not a finished point
+                    # Ctrl-C inside the point's own run (inline): it stops after its blocks under way.
+                    # If those were all of its samples the point is finished and kept like any other;
+                    # else its part-run is not a point (a resume runs it again, the same numbers).
+                    if outcome.partial:
                         ev.set()
                         continue
                     rows[todo[k]] = outcome.row
@@ -649,6 +652,9 @@ def _run(plan: SweepPlan, store: SweepStore | None, scheduler, workers, progress
                         progress(len(rows), len(plan))
                 interrupted = ev.is_set()
     partial = len(rows) < len(plan)
+    # "interrupted": the stop left points to run. A Ctrl-C during the last point that still
+    # finished it leaves a complete sweep, and the state must not say both (issue 36 item 14).
+    interrupted = interrupted and partial
     elapsed = time.perf_counter() - t0
     used_workers = workers if not isinstance(scheduler, Executor) else scheduler.workers
     if store is not None:
