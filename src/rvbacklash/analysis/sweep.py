@@ -176,7 +176,8 @@ def result_figures(result) -> dict:
                     p + "mean_ci95_high": o.mean_ci95_high, p + "sigma": o.sigma, p + "min": o.min, p + "max": o.max})
         for q in o.quantiles:
             t = p + quantile_tag(q.probability)
-            row.update({t: q.value, t + "_ci95_low": q.ci95_low, t + "_ci95_high": q.ci95_high})
+            row.update({t: q.value, t + "_ci95_low": q.ci95_low, t + "_ci95_high": q.ci95_high,
+                        t + "_bounded": q.bounded})
         if o.spec_limit is not None:
             y = o.yield_
             row.update({p + "yield": y.fraction if y else None, p + "yield_ci95_low": y.ci95_low if y else None,

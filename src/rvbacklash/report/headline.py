@@ -92,6 +92,10 @@ def _measuring_pct(data) -> str:
     return f"{n.measuring_torque_fraction * 100:g} %" if n is not None else "3 %"
 
 
+# the short flag a card carries when its output has a warning (the warning itself is in the report's warnings)
+_FLAGS = {"lost_motion": "friction ≥ the measuring torque: this is the stick band's width, not the play (warnings)"}
+
+
 def _pct(key: str, value: float | None) -> Number:
     return Number(key, value, ".2f", "%", 100.0)
 
@@ -104,9 +108,10 @@ def _yield_cards(data, keys: dict) -> list[Card]:
             continue
         side = "≤" if o.spec_is_upper else "≥"
         ppm = f"; {o.ppm_out:.0f} ppm out" if o.ppm_out is not None else ""
+        flag = ("⚠ " + _FLAGS.get(name, "see the warnings above"),) if o.warning else ()
         cards.append(Card(f"yield, {label(data.model, name)} {side} {o.spec_limit:g} {display_unit(o.unit)}",
                           _pct(key, keys[key]),
-                          (f"95 % CI {o.yield_.ci95_low * 100:.2f} – {o.yield_.ci95_high * 100:.2f} %{ppm}",)))
+                          (f"95 % CI {o.yield_.ci95_low * 100:.2f} – {o.yield_.ci95_high * 100:.2f} %{ppm}",) + flag))
     if "simulation.joint_yield" in keys:
         j = sim.joint_yield
         cards.append(Card("yield, every spec at once", _pct("simulation.joint_yield", keys["simulation.joint_yield"]),
@@ -126,7 +131,7 @@ def _linear_cards(data, keys: dict) -> list[Card]:
                ""),)),
         Card("99.865 % of units below", Number("simulation.q99865_arcmin", keys["simulation.q99865_arcmin"],
                                                unit="arcmin"),
-             (f"95 % CI {_f(q.ci95_low)} – {_f(q.ci95_high)}",)),
+             (f"95 % CI {q.interval_text('.3f', ' – ', '')}",)),
     ]
     if out.yield_ is not None and "simulation.yield" in keys:
         cpk = f"; Cpk {out.cpk:.2f}" if out.cpk is not None else ""
@@ -159,9 +164,10 @@ def _model_cards(data, keys: dict) -> list[Card]:
             text = "mean TE peak-to-peak (one output revolution)"
         else:
             text = f"mean {label(data.model, name)}"
+        flag = ("⚠ " + _FLAGS.get(name, "see the warnings above"),) if o.warning else ()
         cards.append(Card(text, Number(f"simulation.{name}.mean", keys[f"simulation.{name}.mean"], fmt, unit),
                           ((f"99.865 % of units {'above' if lower else 'below'} ", Number(tail, keys[tail], fmt, unit),
-                            ""),)))
+                            ""),) + flag))
     if data.model == "contact" and "simulation.preload_fraction" in keys:
         cards.append(Card("units with a preloaded cycloid stage",
                           _pct("simulation.preload_fraction", keys["simulation.preload_fraction"]),
