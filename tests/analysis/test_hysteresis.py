@@ -272,3 +272,7 @@ def test_a_production_run_in_the_stick_band_flags_its_lost_motion_and_yield(rv80
     assert json.loads(json.dumps(b.to_dict()))["warnings"] == list(b.warnings)
     c = rb.calibrate(stuck, bench=[loop], bootstrap=0)
     assert any(w.startswith("before") and "stick band" in w for w in c.warnings)
+    s = rb.sensitivity(stuck, model="elastic", output="lost_motion", samples=64, resamples=100)
+    assert any("stick band" in n for n in s.notes)
+    assert not any("stick band" in n for n in rb.sensitivity(stuck, model="elastic", output="backlash", samples=64,
+                                                              resamples=100).notes)

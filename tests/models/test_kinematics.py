@@ -137,7 +137,7 @@ def test_group_shares_name_the_groups_a_unit_has(problem):
     assert "disc teeth (cumulative pitch)" in names and "crank holes (disc, carrier)" not in names
     assert set(names) <= set(GROUPS)
     assert res.te_peak_to_peak_arcsec > 1.0
-    assert res.to_frame().shape == (8 * problem.cycloid.zp + 1, 4)
+    assert res.to_frame().shape == (8 * problem.cycloid.zp + 1, 5)  # + the cycloid stage alone (issue 36 item 11)
     assert "peak-to-peak" in repr(res)
 
 

@@ -192,6 +192,8 @@ def result_figures(result) -> dict:
         row["preload_fraction"] = result.preload_fraction
     row["linear_mean_arcmin"] = result.linear_reference.mean_arcmin
     row["linear_sigma_arcmin"] = result.linear_reference.sigma_arcmin
+    if result.warnings:  # e.g. a lost motion read in friction's stick band at this point
+        row["warnings"] = "; ".join(result.warnings)
     return plain(row)
 
 
@@ -487,7 +489,7 @@ class SweepResult(Result):
 
     def figure_columns(self) -> list[str]:
         """The columns that are figures of the points (not the index or the parameters)."""
-        return [c for c in self.columns if c != "point" and c not in self.parameters]
+        return [c for c in self.columns if c not in ("point", "warnings") and c not in self.parameters]
 
     def default_figure(self) -> str:
         """What a picture shows unless told: the joint yield, else the primary output's yield,
