@@ -198,7 +198,8 @@ def transmission_error(design: DesignLike, *, measured=None, unit: int | None = 
     if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < len(units):
         raise InputError("unit", unit, f"allowed: 0 to {len(units) - 1} ({len(units)} units in {source})")
     label = f"unit {k} of {source}" if len(units) > 1 else source
-    return _te(problem, unit_realization(problem, units[k]), label, n, load_direction, shares)
+    return _te(problem, unit_realization(problem, units[k]), label, n, load_direction, shares,
+               other_stages_arcmin=units[k].other_stages_arcmin)
 
 
 def measured_units(design: DesignLike, result: SimulationResult):

@@ -163,6 +163,7 @@ class BenchResult(Result):
     seed: int
     units: tuple[BenchLoop | BenchTransmissionError, ...]
     spread: dict[str, dict[str, float]]  # figure -> {"measured_sigma": .., "predicted_sigma": .. | None, "units": n}
+    warnings: tuple[str, ...] = ()  # of the design's predictions, e.g. its lost motion read in a stick band
 
     def rows(self) -> list[dict]:
         out = []
@@ -496,8 +497,15 @@ def read_bench(paths: Sequence[str | Path], problem=None, *, rated_torque_nm: fl
     units_read = [read_bench_file(p, rated_torque_nm=rated_torque_nm, measuring_fraction=x, interval=interval,
                                   units=units, ratio=ratio, rated_from=rated_from) for p in paths]
     predicted: dict[str, np.ndarray] = {}
+    warnings: tuple[str, ...] = ()
     if problem is not None:
         units_read, predicted = place(problem, units_read, samples=samples, seed=seed, sobol_samples=sobol_samples)
+        if "lost_motion_arcmin" in predicted:
+            from rvbacklash.models.elastic import elastic_model
+            from rvbacklash.models.elastic.chain import stick_band_warning
+
+            w = stick_band_warning(elastic_model(problem).chain)
+            warnings = (f"the design's predicted lost motion: {w}",) if w else ()
     spread = {}
     for kind_figs in (("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin"),
                       ("te_peak_to_peak_arcsec",)):
@@ -509,7 +517,7 @@ def read_bench(paths: Sequence[str | Path], problem=None, *, rated_torque_nm: fl
                              "measured_sigma": float(np.std(vals, ddof=1)),
                              "predicted_sigma": float(np.std(p)) if p is not None else None}
     return BenchResult(problem.name if problem is not None else None, samples if problem is not None else 0, seed,
-                       tuple(units_read), spread)
+                       tuple(units_read), spread, warnings)
 
 
 ELASTIC_OUTPUTS = {"lost_motion_arcmin": (0, "lost_motion"), "backlash_arcmin": (1, "backlash"),

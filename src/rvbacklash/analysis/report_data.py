@@ -175,6 +175,7 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
         w.append(f"crank circle radius a0 not given: the first-stage centre distance {g.crank_circle_radius_mm:g} mm is used.")
     if sim.partial:
         w.append(f"interrupted: the simulation covers {sim.samples_done:,} of {sim.samples:,} samples.")
+    w += [f"{sim.model} model: {x}" for x in sim.warnings]  # e.g. lost motion read in friction's stick band
     return tuple(w)
 
 
@@ -182,7 +183,10 @@ def build_report_data(problem: Problem, stackup: StackupResult, simulation: Simu
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
                       sweep=None, transmission=None) -> ReportData:
-    return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact,
-                      validity_warnings(problem, stackup, simulation),
+    warnings = validity_warnings(problem, stackup, simulation)
+    if elastic is not None:  # the elastic section's nominal unit (also beside another model's run)
+        warnings += tuple(f"elastic section: {w}" for w in elastic.nominal.warnings
+                          if not any(w in x for x in warnings))
+    return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact, warnings,
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
                       elastic, sweep, transmission)

@@ -413,6 +413,9 @@ def global_sensitivity(problem: Problem, *, model: str | StreamModel = "linear",
     notes = []
     if partial:
         notes.append(f"interrupted: {keep} of {n_units} units per set used (the largest power of two finished)")
+    said = getattr(getattr(sm, "source", None), "output_warnings", None) or {}  # e.g. lost motion in a stick band
+    if out_name in said:
+        notes.append(f"{out_name}: {said[out_name]}")
     return SensitivityResult(problem.name, model_name, out_name, sm.outputs[out_index].unit, keep,
                              keep * (len(groups) + 2), int(seed), tuple(int(x) for x in stream), int(resamples),
                              CONFIDENCE, float(both.mean()), float(both.std()), tuple(rows),

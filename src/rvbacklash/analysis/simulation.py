@@ -95,6 +95,7 @@ class ConvergencePoint(Result):
     yield_fraction: float | None
     yield_ci95_low: float | None
     yield_ci95_high: float | None
+    q99865_bounded: bool = True  # False: too few samples to bound the quantile's interval (an end None)
 
 
 @dataclass(frozen=True, repr=False)
@@ -136,6 +137,7 @@ class SimulationResult(Result):
     # the first units of the run with their errors (save_units): (Realization, linear stages
     # [arcmin], cycloid stage [arcmin] or -preload [um]); not part of to_dict()
     units: tuple = field(default=(), metadata={EXPORT: False})
+    warnings: tuple[str, ...] = ()  # what the figures need said beside them (each output's ``warning``)
 
     @property
     def output(self) -> OutputStatistics:
@@ -181,7 +183,7 @@ class SimulationResult(Result):
         lines = [head] + [line for o in self.outputs.values() for line in o.summary()]
         if self.preload_fraction is not None:
             lines.append(f"cycloid stage preloaded in {self.preload_fraction:.2%} of the units")
-        return lines
+        return lines + [f"warning: {w}" for w in self.warnings]
 
 
 # --- parameters ------------------------------------------------------------------------------
@@ -288,12 +290,14 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
         y = s.yield_
         return ConvergencePoint(o.moments.n, s.mean, s.mean_ci95_low, s.mean_ci95_high, q.value, q.ci95_low,
                                 q.ci95_high, y.fraction if y else None, y.ci95_low if y else None,
-                                y.ci95_high if y else None)
+                                y.ci95_high if y else None, q.bounded)
 
     with np.errstate(invalid="ignore", divide="ignore"):
         raw = run_blocks(source, int(samples), limits, workers or default_workers(), chunk_blocks, progress, snapshot)
         outputs = {o.output.name: st.output_statistics(o, qs, lim if math.isfinite(lim) else None, raw.samples)
                    for o, lim in zip(raw.outputs, limits)}
+    said = dict(getattr(source, "output_warnings", None) or {})  # e.g. a lost motion read in a stick band
+    outputs = {k: replace(o, warning=said[k]) if k in said else o for k, o in outputs.items()}
     n_specs = sum(math.isfinite(x) for x in limits)
     joint = Proportion.sampled(raw.n_joint_pass, raw.samples) if n_specs > 1 and raw.samples else None
     preloaded = outputs.get("preload")  # conditional: its samples are the preloaded units
@@ -309,7 +313,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
                             raw.samples, raw.partial,
                             raw.elapsed_s, outputs, joint, preload, linear_reference(problem),
                             tuple(raw.convergence), curve,
-                            tuple(source.saved_units()) if save_units else ())
+                            tuple(source.saved_units()) if save_units else (),
+                            tuple(dict.fromkeys(said.values())))
 
 
 def _limits(source: BlockSource, spec_arcmin: float | None, specs: Mapping[str, float] | None) -> tuple[float, ...]:

@@ -78,6 +78,8 @@ def print_bench(result, console) -> None:
     for u in result.units:
         for n in u.notes:
             console.print(f"[dim]{escape(u.source)}: {escape(n)}[/]")
+    for w in result.warnings:
+        console.print(f"[bold red]warning:[/] {escape(w)}")
 
 
 @app.command()
@@ -159,6 +161,8 @@ def print_calibration(result, console) -> None:
     for k, s in result.spread.items():
         pred = "" if s["predicted_sigma"] is None else f"; predicted {s['predicted_sigma']:.4g}"
         console.print(f"unit-to-unit spread of {k}: sigma {s['measured_sigma']:.4g} over {s['units']} units{pred}")
+    for w in result.warnings:
+        console.print(f"[bold red]warning:[/] {escape(w)}")
 
 
 @app.command()

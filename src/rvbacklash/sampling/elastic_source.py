@@ -145,6 +145,15 @@ class ElasticBlockSource:
     save_units: int = 0
     block_size: int = BLOCK_UNITS
 
+    @property
+    def output_warnings(self) -> dict[str, str]:
+        """What an output's figures need said beside them, by output (simulation.simulate reads it):
+        the lost motion read in the stick band when friction reaches x T_R (docs/elastic.md)."""
+        from rvbacklash.models.elastic.chain import stick_band_warning
+
+        w = stick_band_warning(self.model.chain)
+        return {"lost_motion": w} if w else {}
+
     def block(self, b: int, n: int) -> np.ndarray:
         """(4, n) outputs of block b (``elastic_outputs``)."""
         c = self.contact

@@ -176,6 +176,13 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
     ch = grade_choices(problem)
     specs = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec) or None
     notes = list(ch.notes)
+    if model == "elastic" and problem.design.elastic is not None:  # friction and x T_R: the same for every grade
+        from rvbacklash.models.elastic import elastic_model
+        from rvbacklash.models.elastic.chain import stick_band_warning
+
+        said = stick_band_warning(elastic_model(problem).chain)
+        if said:
+            notes.append(f"lost motion: {said}")
     try:
         lin = solve_linear(ch, spec_arcmin, yield_target)
     except InputError:

@@ -193,6 +193,14 @@ function tailOf(o) {
   return table.find((q) => Math.abs(q.probability - p) < 1e-9) || null;
 }
 
+function intervalText(q) {
+  // a quantile's 95 % interval; an end the sample cannot bound is open (bounded false, the end null)
+  if (q.bounded !== false) return `[${fmt(q.ci95_low)}, ${fmt(q.ci95_high)}]`;
+  const end = (v) => (v === null || v === undefined ? "beyond the sample" : fmt(v));
+  const needs = q.needs_samples ? ` (needs ≥ ${q.needs_samples.toLocaleString("en")} units)` : "";
+  return `[${end(q.ci95_low)}, ${end(q.ci95_high)}]${needs}`;
+}
+
 function card(name, o) {
   const unit = UNITS[o.unit] || o.unit;
   const tail = tailOf(o);
@@ -207,7 +215,7 @@ function card(name, o) {
   };
   item("σ", `${name}.sigma`, o.sigma, fmt(o.sigma));
   if (tail) item(`${(100 * tail.probability).toFixed(3)} % tail`, `${name}.tail`, tail.value, fmt(tail.value),
-                 `[${fmt(tail.ci95_low)}, ${fmt(tail.ci95_high)}]`);
+                 intervalText(tail));
   const c = el("div", { class: "card", "data-output": name },
     el("h3", { text: `${TITLES[name] || name} [${unit}]`, title: o.description }),
     el("div", {}, el("span", { class: "big", "data-key": `${name}.mean`, "data-value": String(o.mean), text: fmt(o.mean) }),
@@ -220,6 +228,8 @@ function card(name, o) {
       el("b", { "data-key": `${name}.yield`, "data-value": String(y.fraction), text: pct(y.fraction) }),
       el("span", { class: "ci", text: ` [${pct(y.ci95_low)}, ${pct(y.ci95_high)}]` })));
   }
+  // a warning the figures carry (e.g. a lost motion read in friction's stick band): on the card itself
+  if (o.warning) c.append(el("div", { class: "warn", "data-warning": name, text: "⚠ " + o.warning }));
   return c;
 }
 
@@ -283,7 +293,8 @@ function renderLoop(section) {
   const t = el("table", { class: "plain" }, el("tr", {}, ...["element", "lost motion [arcmin]", "share of compliance"].map((s) => el("th", { text: s }))));
   for (const k of rows) t.append(el("tr", {}, el("td", { text: k.replace(/_/g, " ") }),
     el("td", { text: fmt(h.lost_motion_share_arcmin[k]) }), el("td", { text: pct(h.compliance_share[k]) })));
-  $("#loop-shares").replaceChildren(t);
+  const warnings = (h.warnings || []).map((w) => el("div", { class: "warn", "data-warning": "loop", text: "⚠ " + w }));
+  $("#loop-shares").replaceChildren(...warnings, t);
 }
 
 function renderTe(t) {

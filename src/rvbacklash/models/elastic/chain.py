@@ -750,6 +750,32 @@ def branch_angles(torque_nm, branch, unit, support, c, state, out):
     chain_angles(t_el, side, unit, support, c, state, out)
 
 
+def lost_motion_in_stick_band(c) -> bool:
+    """Does friction hold the output inside the measuring torques (Chain ``c``)? On the rising
+    branch at +x T_R the chain carries T_el = (x T_R - T_f0) / (1 -+ mu) (``branch_point``): for
+    T_f0 >= x T_R it is still <= 0, the output has not crossed its dead bands (nor, on the falling
+    branch at -x T_R, back). The lost motion's definition, the mean of the load and unload angles
+    at +x T_R less that at -x T_R, then reads the width of the stick band — the chain's elastic
+    wind-up between the two friction torques — and not the play, which the loop shows only in its
+    width at zero torque (the backlash). A bench with this loop reads the same figure: it is the
+    definition's, not an error of the model; what changes is what it means."""
+    t_el, side = branch_point(c.measuring_fraction * c.rated_torque_nm, RISE, c)
+    return t_el < 0.0 or (t_el == 0.0 and side < 0.0)
+
+
+def stick_band_warning(c) -> str | None:
+    """The warning every output that shows a lost motion of this design carries when
+    ``lost_motion_in_stick_band`` (None otherwise): friction, x T_R and what the figure is."""
+    if not lost_motion_in_stick_band(c):
+        return None
+    x, tr, tf = c.measuring_fraction, c.rated_torque_nm, c.friction_nm
+    return (f"friction {tf:.4g} N m >= the measuring torque x T_R = {x * tr:.4g} N m ({x * 100:g} % of "
+            f"{tr:.4g} N m): the loop's branches stick inside +-x T_R, so the lost motion read there is the "
+            f"width of the stick band (the wind-up between the friction torques), not the play, and a yield "
+            f"against a lost-motion spec counts that; the backlash (the loop's width at 0 N m) holds the play. "
+            f"Check friction_torque_nm, or measure at x > T_f / T_R = {tf / tr:.4g} (docs/elastic.md, Friction).")
+
+
 LOOP_POINTS = 10  # the loop's points that the figures read (loop_points)
 BACKLASH_POINT, LOST_MOTION_POINT, SPAN_POINT = range(3)  # the figure a loop point serves
 
