@@ -20,11 +20,10 @@ import numpy as np
 from rvbacklash.errors import InputError
 from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          cached_table, perfect_unit, reference_revolution,
-                                          revolution)
+                                          cached_table, lost_motion_arcmin, perfect_unit,
+                                          reference_revolution, revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
-from rvbacklash.units import ARCMIN_PER_RAD
 
 MAX_POSITIONS = 1 << 16
 LEADING_ORDERS = 8  # at most this many lines listed in the summary and the JSON
@@ -186,7 +185,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
 
     ccw, cw = te(run)
     main, other = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
-    lm = (run.ccw_rad - run.cw_rad) * ARCMIN_PER_RAD
+    lm = lost_motion_arcmin(run.ccw_rad, run.cw_rad)
     spec = amplitude_spectrum(main)
     lead = [k for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1
             if spec[k] > SPECTRUM_FLOOR_ARCSEC]
