@@ -144,7 +144,8 @@ def test_a_column_map_or_a_profile_names_any_header(tmp_path, rig):
 
 
 @pytest.mark.parametrize("text, allowed", [
-    ("te", "ROLE=COLUMN pairs"), ("tee=X", "unknown role 'tee'"), ("te=", "no column named"), ("te=a,te=b", "a second te"),
+    ("te", "ROLE=COLUMN pairs"), ("tee=X", "unknown role 'tee'"), ("te=", "no column named"),
+    ("te=a,te=b", "a second te"),
 ])
 def test_bad_column_maps(text, allowed):
     with pytest.raises(InputError, match="columns") as e:
@@ -237,7 +238,8 @@ def _profile(tmp_path, text):
 
 
 @pytest.mark.parametrize("header, role, unit", [
-    ("Torque_Nm", "torque", "nm"), ("Output Angle (deg)", "angle", "deg"), ("output_position_arcsec", "angle", "arcsec"),
+    ("Torque_Nm", "torque", "nm"), ("Output Angle (deg)", "angle", "deg"),
+    ("output_position_arcsec", "angle", "arcsec"),
     ("Transmission_Error_Bw", "te_bw", None), ("time_ms", "time", "ms"), ("Input Position [rad]", "input_angle", "rad"),
     ("Poisition_Output_Reducer_Fw", "angle", None), ("fwd-transmission-error", "te", None), ("Moment", None, None),
     ("T", None, None),

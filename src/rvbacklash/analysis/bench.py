@@ -498,6 +498,9 @@ def _te_reading(where: str, col: str, deg: np.ndarray, te: np.ndarray, positions
     lead = [int(k) for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1 if spec[k] > floor]
     if revolutions > 1.05:
         notes.append(f"{revolutions:.2f} revolutions averaged by output position")
+    if te.size < 2 * np.count_nonzero(have):
+        notes.append(f"{te.size / np.count_nonzero(have):.1f} samples per position of {positions}: the noise about "
+                     f"the averaged curve is not resolved (noise_arcsec is a lower bound)")
     start = float(np.mod(origin_deg, 360.0))
     return BenchTransmissionError(where, "transmission_error", int(te.size), revolutions, positions,
                                   float(np.ptp(curve)), float(curve.min()), float(curve.max()), noise, floor,
@@ -522,7 +525,8 @@ def read_te_two_runs(table: BenchTable, ratio: float | None = None, positions: i
     (fwd, fwd_mean), (bwd, bwd_mean) = readings
     gap = lost_motion_arcmin(bwd_mean / ARCSEC_PER_RAD, fwd_mean / ARCSEC_PER_RAD)
     ccw = "backward"
-    notes = list(table.notes)
+    notes = list(table.notes) + [f"{name} run: {n}" for name, u in (("forward", fwd), ("backward", bwd))
+                                 for n in u.notes]
     if gap.mean() < 0:
         gap, ccw = -gap, "forward"
         notes.append("the forward run's TE lies above the backward's: read as the ccw flank (the file's TE or "

@@ -105,8 +105,8 @@ def two_run_te(orders: Mapping[int, float], lost_motion_arcmin: float, *,
         return sum((a * np.cos(m * np.radians(theta) + phases[m]) for m, a in orders.items()), np.zeros_like(theta))
 
     def gap_arcsec(theta):
-        lm = lost_motion_arcmin + sum((b * np.cos(k * np.radians(theta)) for k, b in (lost_motion_orders or {}).items()),
-                                      np.zeros_like(theta))
+        ripple = (b * np.cos(k * np.radians(theta)) for k, b in (lost_motion_orders or {}).items())
+        lm = lost_motion_arcmin + sum(ripple, np.zeros_like(theta))
         return 60.0 * lm
 
     def noise():

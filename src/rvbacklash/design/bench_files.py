@@ -350,10 +350,11 @@ def _xlsx_rows(data: bytes, where: str, sheet: str | None) -> list[tuple[int, li
     import zipfile
 
     import openpyxl
+    from openpyxl.utils.exceptions import InvalidFileException
 
     try:
         book = openpyxl.load_workbook(io.BytesIO(data), read_only=True, data_only=True)
-    except (zipfile.BadZipFile, KeyError, ValueError, OSError, TypeError) as e:
+    except (zipfile.BadZipFile, InvalidFileException, KeyError, ValueError, OSError, TypeError) as e:
         raise InputError(where, allowed=f"not a readable .xlsx workbook ({type(e).__name__}); allowed: an Excel "
                                         f".xlsx file, or CSV/TSV") from None
     try:
@@ -538,13 +539,15 @@ def read_bench_table(path: str | Path, units: Mapping[str, str | None] | FileFor
         if unit is None:
             raise InputError(f"{where}: column '{headers[key]}'",
                              allowed=f"no unit; allowed: a unit in the header, e.g. '{names[0]} [{canonical}]', or "
-                                     f"--{flag.replace('_', '-')} (or [units] {role} in a --format-profile)")
+                                     f"--{flag.replace('_', '-')} (or [units] {flag.removesuffix('_unit')} in a "
+                                     f"--format-profile)")
         if unit_of[key] is None and flag not in flag_units and layout_note:
             notes.append(layout_note)
             layout_note = None
         ukey = _unit_key(unit)
         if ukey not in table:
-            raise InputError(f"{where}: column '{headers[key]}'", unit, f"unknown unit; allowed: {', '.join(sorted(table))}")
+            raise InputError(f"{where}: column '{headers[key]}'", unit,
+                             f"unknown unit; allowed: {', '.join(sorted(table))}")
         scales[key] = table[ukey] * to_canonical
     if not body:
         raise InputError(where, allowed="a header and no data rows; allowed: rows of numbers below the header")
