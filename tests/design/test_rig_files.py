@@ -248,3 +248,16 @@ def test_header_spellings(header, role, unit):
     from rvbacklash.design.bench_files import _recognise
 
     assert _recognise(header) == (None if role is None else (role, unit))
+
+
+def test_a_direction_column_in_a_hysteresis_file_is_ignored(tmp_path):
+    """A loop has no runs to split: a recognised direction column there is left out (said), as any
+    column of no use was before; mapped on purpose beside a torque column it is refused."""
+    f = tmp_path / "loop.csv"
+    f.write_text("time [s],torque [N m],angle [arcmin],Direction\n" +
+                 "".join(f"{k * 0.01},{k},{k / 300},{'fw' if k % 2 else 'bw'}\n" for k in range(50)))
+    table = read_bench_table(f)
+    assert table.kind == "hysteresis" and "column 'Direction' ignored (a direction column in a hysteresis file)" \
+        in table.notes
+    with pytest.raises(InputError, match="a torque column beside columns of a backward run or a direction"):
+        read_bench_table(f, file_format(columns="direction=Direction"))

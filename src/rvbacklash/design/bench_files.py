@@ -79,7 +79,7 @@ RUN_WORDS = {"fw": "forward", "fwd": "forward", "forward": "forward", "bw": "bac
 # the values of a direction column that name each run (a profile's [directions] adds its own)
 DIRECTION_VALUES = {"forward": ("fw", "fwd", "forward", "f", "+", "+1", "1", "1.0", "+1.0"),
                     "backward": ("bw", "bwd", "backward", "b", "back", "-", "-1", "-1.0")}
-DIRECTION_NAMES = ("direction", "dir", "run", "run direction", "rotation direction", "direction of rotation")
+DIRECTION_NAMES = ("direction", "dir", "run direction", "rotation direction", "direction of rotation")
 TWO_RUN_ROLES = ("angle", "input_angle", "te")  # roles a backward run has its own column of (role_bw)
 MAP_ROLES = ("time", "torque", "angle", "input_angle", "te", "angle_bw", "input_angle_bw", "te_bw", "direction")
 # a rig's known header (normalised) -> units of its columns without one; said in the notes
@@ -527,6 +527,9 @@ def read_bench_table(path: str | Path, units: Mapping[str, str | None] | FileFor
     layout_note, layout_units = _layout_units(header)
     flag_units = dict(fmt.units)
     kind = "hysteresis" if "torque" in roles else "te"
+    if kind == "hysteresis" and "direction" in roles and "direction" not in mapped:  # a loop has no runs to split
+        notes.append(f"column '{headers.pop('direction')}' ignored (a direction column in a hysteresis file)")
+        del roles["direction"], unit_of["direction"]
     _check_roles(roles, kind, header, where)
     scales: dict[str, float] = {}
     for key in roles:
