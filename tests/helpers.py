@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+import threading
 from pathlib import Path
+
+import pytest
 
 from rvbacklash.design.loading import design_from_toml, example_text
 
@@ -88,3 +92,29 @@ def crank_layout_text(cranks: int, pillars: int) -> str:
         assert old in text, old
         text = text.replace(old, new, 1)
     return text
+
+
+def call_beside_fifo(fifo: Path, fn, timeout: float = 60.0) -> dict:
+    """{"value": fn()} or {"error": what it raised}, fn run in a thread; if it still blocks after
+    ``timeout`` (reading the FIFO ``fifo``, which has no writer), the FIFO's write end is opened and
+    closed (the reader gets EOF and returns: nothing is left blocked) and the test fails. The
+    timeout only bounds a hang: a reader that refuses the FIFO returns at once."""
+    out = {}
+
+    def run():
+        try:
+            out["value"] = fn()
+        except BaseException as e:  # noqa: BLE001 - handed to the test
+            out["error"] = e
+
+    t = threading.Thread(target=run, daemon=True)
+    t.start()
+    t.join(timeout)
+    if t.is_alive():
+        try:
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))  # the blocked reader gets EOF
+        except OSError:
+            pass
+        t.join(10)
+        pytest.fail(f"reading {fifo} blocked for {timeout} s")
+    return out

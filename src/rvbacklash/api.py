@@ -396,34 +396,46 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
 def read_bench(files, *, design: DesignLike | None = None, rated_torque_nm: float | None = None,
                torque_unit: str | None = None, angle_unit: str | None = None, te_unit: str | None = None,
                time_unit: str | None = None, ratio: float | None = None, samples: int = 2000,
-               seed: int = 0) -> BenchResult:
-    """Measured hysteresis loops and TE curves (docs/bench-data.md): each file (CSV/TSV, units in
-    the header or given here) one unit, read by the definitions the model's loops are read by,
-    with an expanded uncertainty (k = 2) from the data's noise. With ``design``: each figure as a
+               seed: int = 0, columns: str | dict | None = None, format_profile: str | Path | None = None,
+               decimal: str | None = None) -> BenchResult:
+    """Measured hysteresis loops and TE curves (docs/bench-data.md): each file (CSV/TSV/.xlsx, units
+    in the header or given here) one unit, read by the definitions the model's loops are read by,
+    with an expanded uncertainty (k = 2) from the data's noise; a TE file of forward and backward
+    runs one unit with its lost motion against output position. With ``design``: each figure as a
     percentile of ``samples`` predicted units of its production run (elastic model for loops,
     transmission model for TE: at most 200 units), a flag beyond 0.135-99.865 % with the factor
     groups that dominate that figure (Sobol), and the batch's unit-to-unit spread against the
-    predicted one. ``rated_torque_nm``: default the design's, else the loop's peaks."""
+    predicted one. ``rated_torque_nm``: default the design's, else the loop's peaks. Rig files
+    as they come: ``columns`` a column map ("te=Transmission_Error_Fw,..." or {role: header}),
+    ``format_profile`` a TOML of the rig's format, ``decimal`` "." or "," (docs/bench-data.md,
+    "Rig files")."""
     from rvbacklash.analysis.bench import read_bench as _read_bench
+    from rvbacklash.design.bench_files import file_format
 
-    problem = prepare(design) if design is not None else None
     units = {"torque_unit": torque_unit, "angle_unit": angle_unit, "te_unit": te_unit, "time_unit": time_unit}
+    fmt = file_format(columns, format_profile, decimal, units)
+    problem = prepare(design) if design is not None else None
     return _read_bench([files] if isinstance(files, (str, Path)) else list(files), problem,
-                       rated_torque_nm=rated_torque_nm, units=units, ratio=ratio, samples=samples, seed=seed)
+                       rated_torque_nm=rated_torque_nm, units=fmt, ratio=ratio, samples=samples, seed=seed)
 
 
 def calibrate(design: DesignLike, *, bench, torque_unit: str | None = None, angle_unit: str | None = None,
               time_unit: str | None = None, bootstrap: int = 50, seed: int = 0, samples: int = 0,
-              max_evaluations: int = 200) -> CalibrationResult:
+              max_evaluations: int = 200, columns: str | dict | None = None,
+              format_profile: str | Path | None = None, decimal: str | None = None) -> CalibrationResult:
     """Fit the structure's series stiffness, the friction torque and the crank bearings' clearance
     offset of the design's nominal unit to measured loops (``bench``: one file or several, one unit
     each) by least squares; 95 % confidence intervals from the Jacobian (bootstrap over units from
     three units on, ``bootstrap`` resamples); ``result.design`` is the calibrated Design
     (``rvbacklash.report.design_toml.design_toml`` writes it). ``samples`` > 0: the units' spread
-    against that many predicted units. docs/bench-data.md."""
+    against that many predicted units. ``columns``, ``format_profile``, ``decimal``: rig files as
+    they come, as ``read_bench``. docs/bench-data.md."""
     from rvbacklash.analysis.calibration import calibrate as _calibrate
+    from rvbacklash.design.bench_files import file_format
+    from rvbacklash.sampling.seeds import check_seed
 
     files = [bench] if isinstance(bench, (str, Path)) else list(bench)
     units = {"torque_unit": torque_unit, "angle_unit": angle_unit, "time_unit": time_unit}
-    return _calibrate(prepare(design), files, units_flags=units, bootstrap=bootstrap, seed=seed, samples=samples,
-                      max_evaluations=max_evaluations)
+    fmt = file_format(columns, format_profile, decimal, units)  # the unit flags with the rig's format
+    return _calibrate(prepare(design), files, units_flags=fmt, bootstrap=bootstrap, seed=check_seed(seed),
+                      samples=samples, max_evaluations=max_evaluations)

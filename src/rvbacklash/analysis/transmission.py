@@ -26,11 +26,10 @@ from rvbacklash.analysis.contact import linear_stage_means
 from rvbacklash.errors import InputError
 from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          cached_table, perfect_unit, reference_revolution,
-                                          revolution)
+                                          cached_table, lost_motion_arcmin, perfect_unit,
+                                          reference_revolution, revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
-from rvbacklash.units import ARCMIN_PER_RAD
 
 MAX_POSITIONS = 1 << 16
 LEADING_ORDERS = 8  # at most this many lines listed in the summary and the JSON
@@ -202,7 +201,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
 
     ccw, cw = te(run)
     main, other_flank = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
-    stage = (run.ccw_rad - run.cw_rad) * ARCMIN_PER_RAD
+    stage = lost_motion_arcmin(run.ccw_rad, run.cw_rad)  # the cycloid stage's gap
     other_from = "given" if other_stages_arcmin is not None else "linear means"
     other = float(other_stages_arcmin) if other_stages_arcmin is not None else \
         float(sum(linear_stage_means(problem)[0].values()))
