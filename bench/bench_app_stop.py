@@ -25,7 +25,7 @@ JOBS = {
     "simulate contact": ("/api/simulate", {"model": "contact", "samples": 10_000_000}),
     "simulate elastic": ("/api/simulate", {"model": "elastic", "samples": 2_000_000}),
     "simulate transmission": ("/api/simulate", {"model": "transmission", "samples": 200_000}),
-    "elastic section": ("/api/elastic-section", {"samples": 20_000}),
+    "elastic section": ("/api/elastic-section", {"samples": 10_000}),
     "sensitivity contact": ("/api/sensitivity", {"model": "contact", "samples": 1 << 19}),
     "sensitivity elastic": ("/api/sensitivity", {"model": "elastic", "samples": 1 << 16}),
     "sensitivity transmission": ("/api/sensitivity", {"model": "transmission", "samples": 1 << 13}),

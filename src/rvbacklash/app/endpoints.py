@@ -205,11 +205,10 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
 
     @endpoint(name="report")
     async def report(body: dict) -> Response:
-        from rvbacklash.report.html import render_html
-
         inputs = simulation_inputs(body)
         if choice(body, "format", "html", ("html",)) != "html":  # pragma: no cover - one format
             raise InputError("format", body["format"], "allowed: html")
+        from rvbacklash.report.html import render_html  # (seconds the first time: after the checks)
         te = inputs["specs"].pop("transmission_error", None)
 
         def compute(job: Job) -> str:

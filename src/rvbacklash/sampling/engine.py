@@ -37,7 +37,7 @@ from typing import Callable, Protocol
 import numpy as np
 from numpy.random import PCG64, Generator, SeedSequence
 
-from rvbacklash.interrupt import stop_requested
+from rvbacklash.interrupt import check_abandoned, stop_requested
 from rvbacklash.sampling import fast_normals, kernels
 from rvbacklash.sampling.inputs import InputTransform, linear_fast_plan
 
@@ -252,7 +252,10 @@ def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | No
     upper = np.array([o.upper_limit for o in outs])
     sizes = block_sizes(samples, source_block_size(source))
     with stop_requested() as stop:  # from here on, Ctrl-C stops the run after the blocks under way
-        return _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
+        run = _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
+    if run.partial:
+        check_abandoned()  # a stop_on stop (a workbench job): nobody reads the partial run, nor what follows it
+    return run
 
 
 def histogram_bin(value: float, lo: float, scale: float) -> int:
