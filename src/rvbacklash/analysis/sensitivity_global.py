@@ -33,6 +33,7 @@ depends on its own streams only.
 
 from __future__ import annotations
 
+import contextvars
 import math
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -302,7 +303,8 @@ class ThreadExecutor:
                         item = next(todo, None)
                         if item is None:
                             break
-                        running[pool.submit(fn, item[1])] = item[0]
+                        # a copy of this context each: a stop of the caller's window reaches the task's loops
+                        running[pool.submit(contextvars.copy_context().run, fn, item[1])] = item[0]
                     if not running:
                         return
                     done, _ = wait(running, timeout=0.2, return_when=FIRST_COMPLETED)

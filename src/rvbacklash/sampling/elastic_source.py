@@ -26,6 +26,7 @@ import numpy as np
 from rvbacklash._numba import njit
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
+from rvbacklash.interrupt import check_abandoned
 from rvbacklash.models.contact import PinGaps, crank_step_angle_rad, recorded_stage, stage_play, stage_work
 from rvbacklash.models.elastic import ElasticModel, LoopDesign, elastic_model, evaluate_units, loop_design, pin_law_table
 from rvbacklash.models.unit_errors import empty_unit
@@ -223,6 +224,7 @@ class ElasticStreams:
         streams = states_from_generators(generators)
         out = np.empty((N_OUTPUTS, n))
         for start in range(0, n, CHUNK):
+            check_abandoned()  # a workbench job's stop drops the block between two chunks
             m = min(CHUNK, n - start)
             out[:, start:start + m] = evaluate_batch(self.source.design, draw_units(self.source.contact, streams, m))
         return out

@@ -26,6 +26,7 @@ from numpy.random import SeedSequence
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
 from rvbacklash.errors import InputError
+from rvbacklash.interrupt import check_abandoned
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, Kinematics, PositionTable, curve_scratch,
                                           kinematics, position_table, reference_revolution, te_curve)
 from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, empty_units, realization_at, store_unit,
@@ -247,6 +248,7 @@ class TransmissionStreams:
         streams = states_from_generators(generators)
         out = np.empty((len(self.outputs), n))
         for start in range(0, n, CHUNK):
+            check_abandoned()  # a workbench job's stop drops the block between two chunks
             m = min(CHUNK, n - start)
             self.source._evaluate(self.source._draw(streams, m), out[:, start:start + m])
         return out

@@ -94,10 +94,13 @@ class _Runs:
                 self.runs += 1
                 if ev.partial:
                     self.interrupted = True
-                    continue
-                out[todo[i]] = ev
-                if self.progress is not None:
-                    self.progress(self.runs)
+                else:
+                    out[todo[i]] = ev
+                    if self.progress is not None:
+                        self.progress(self.runs)
+                if self.stop.is_set():  # a stop: no candidate queued behind this one starts
+                    self.interrupted = True
+                    break
         if self.stop.is_set():
             self.interrupted = True
         if stream == SEARCH_STREAM:
