@@ -49,7 +49,7 @@ def fc_table(kind: str) -> tuple[np.ndarray, np.ndarray]:
 
 def fc_radial_roller(gamma: float) -> float:
     """f_c of a radial roller bearing at gamma = D_we cos(alpha) / D_pw, linearly interpolated in
-    ISO 281:2007 Table 7 (as ISO 281 prescribes). Validity: 0.01 <= gamma <= 0.30 (the rows stored;
+    ISO 281:2007 Table 7 (as ISO 281 prescribes). Validity: 0.01 <= gamma <= 0.28 (the rows stored;
     beyond, refused)."""
     return _interpolate("roller", gamma)
 
@@ -76,7 +76,7 @@ def fc_radial_roller_closed_form(gamma: float, lambda_nu: float = ISO16281_LAMBD
 
     Source: ISO/TR 1281-1:2008 (the explanatory notes on ISO 281), the roller bearing's rating
     factor; lambda nu = 0.83 for radial roller bearings. Used here to check the stored table (it
-    agrees to +-0.05 over 0.01-0.30); the table is what the ratings read. Parameters: gamma [-].
+    agrees to +-0.05 over 0.01-0.28); the table is what the ratings read. Parameters: gamma [-].
     Returns f_c [-]."""
     t = (1.04 * ((1.0 - gamma) / (1.0 + gamma)) ** (143.0 / 108.0)) ** 4.5
     return (207.9 * lambda_nu * (1.0 + t) ** (-2.0 / 9.0) * gamma ** (2.0 / 9.0) * (1.0 - gamma) ** (29.0 / 27.0)

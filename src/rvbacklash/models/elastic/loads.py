@@ -216,34 +216,40 @@ def roller_load_n(approach_um, drop_um, stiffness_n_per_mm):
 
 
 @njit(cache=True)
+def roller_set_load_n(approach_um, clearance_um, rollers):
+    """The radial load [N] a bearing's rollers carry at the rings' approach delta_r [um]: sum_i Q_i
+    cos(psi_i), roller i closed by delta_r cos(psi_i) - G/2 (a preload, G < 0, closes the rollers
+    on the far side too: they push back)."""
+    total = 0.0
+    for i in range(rollers.roller_cos.size):
+        c = rollers.roller_cos[i]
+        total += c * roller_load_n(approach_um * c - 0.5 * clearance_um, rollers.drop_um, rollers.stiffness_n_per_mm)
+    return total
+
+
+@njit(cache=True)
 def roller_set_approach_um(load_n, clearance_um, rollers):
     """The radial approach delta_r [um] of a bearing's rings under the radial load ``load_n`` [N] with
     the diametral clearance ``clearance_um`` (negative: preload): roller i closes by delta_r cos(psi_i)
     - G/2, sum_i Q_i cos(psi_i) = F_r (Harris & Kotzalas 5th ed., the load distribution with
-    clearance; ISO/TS 16281's slices). Illinois regula falsi on the monotone load (``compliance.illinois_point``)."""
-    if load_n <= 0.0:
-        return 0.5 * clearance_um
+    clearance; ISO/TS 16281's slices). Illinois regula falsi on the monotone load
+    (``compliance.illinois_point``), bracketed by +-(|G|/2 + the profile's largest drop + the
+    approach at which the roller on the load line alone would carry the load)."""
     top = 0.0
     for k in range(rollers.drop_um.size):
         top = max(top, 2.0 * rollers.drop_um[k])
-    # the roller on the load line alone, every slice closed by its share: an upper bound
-    lone = (load_n / rollers.stiffness_n_per_mm) ** 0.9 * 1e3
-    lo, hi = 0.5 * clearance_um - 1e-9, 0.5 * clearance_um + top + lone
-    flo, fhi = -load_n, 0.0
-    for i in range(rollers.roller_cos.size):
-        c = rollers.roller_cos[i]
-        if c > 0.0:
-            fhi += c * roller_load_n(hi * c - 0.5 * clearance_um, rollers.drop_um, rollers.stiffness_n_per_mm)
-    fhi -= load_n
+    lone = (max(load_n, 0.0) / rollers.stiffness_n_per_mm) ** 0.9 * 1e3
+    reach = 0.5 * abs(clearance_um) + top + lone + 1e-9
+    lo, hi = -reach, reach
+    flo = roller_set_load_n(lo, clearance_um, rollers) - load_n
+    fhi = roller_set_load_n(hi, clearance_um, rollers) - load_n
+    if flo >= 0.0:
+        return lo
     side = 0
     x = hi
-    for _ in range(200):
+    for _ in range(300):
         x = cm.illinois_point(lo, flo, hi, fhi)
-        fx = -load_n
-        for i in range(rollers.roller_cos.size):
-            c = rollers.roller_cos[i]
-            if c > 0.0:
-                fx += c * roller_load_n(x * c - 0.5 * clearance_um, rollers.drop_um, rollers.stiffness_n_per_mm)
+        fx = roller_set_load_n(x, clearance_um, rollers) - load_n
         if fx == 0.0 or hi - lo <= 1e-13 * (abs(hi) + abs(lo)):
             return x
         lo, flo, hi, fhi, side = cm.illinois_bracket(x, fx, lo, flo, hi, fhi, side)
