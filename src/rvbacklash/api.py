@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.bench import BenchResult
     from rvbacklash.analysis.calibration import CalibrationResult
+    from rvbacklash.analysis.capacity import CapacityResult
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
@@ -326,6 +327,23 @@ def hysteresis(design: DesignLike, *, measured: str | Path | None = None, unit: 
     from rvbacklash.analysis.hysteresis import hysteresis as _hysteresis
 
     return _hysteresis(prepare(design), measured=measured, unit=unit, points=points)
+
+
+def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
+             life_method: str | None = None) -> CapacityResult:
+    """The capacity and life datasheet of the nominal unit (docs/capacity.md): every crank bearing's
+    load over a revolution, rating and L10 at the stated rated torque and the rated output speed, the
+    reducer's life, the derived rated torque, the momentary maximum torque and its limiting element,
+    the allowable acceleration torque, the main bearings' moment rigidity and allowable moment, and a
+    duty cycle's life (``duty_cycle``: a CSV or TOML file, design/duty_cycle.py). ``angles``: crank
+    angles per revolution (default 24); ``life_method``: iso16281 or iso281 (default: the design's
+    [capacity] life_method). The design needs [elastic] and [structure]."""
+    from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_rating
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
+    return capacity_rating(prepare(design), angles=DEFAULT_ANGLES if angles is None else angles, duty_cycle=cycle,
+                           life_method=life_method)
 
 
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,

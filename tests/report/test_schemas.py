@@ -32,6 +32,7 @@ def _outputs():
         "sweep": sweep,
         "transmission-error": rb.transmission_error(p, positions=400),
         "contact": rb.contact(p),
+        "capacity": rb.capacity(p, angles=6),
         **_bench_outputs(p),
     }
 

@@ -407,6 +407,7 @@ class SchemaOutput(str, Enum):
     sweep = "sweep"
     transmission_error = "transmission-error"
     contact = "contact"
+    capacity = "capacity"
     bench = "bench"
     calibrate = "calibrate"
 
