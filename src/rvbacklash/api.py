@@ -63,28 +63,34 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: Iterable[float] = (), workers: int | None = None, model: str | Callable = "linear",
              progress: Callable[[int], None] | None = None, stream: tuple[int, ...] = (),
-             error_model: str | None = None, save_units: int = 0) -> SimulationResult:
+             error_model: str | None = None, save_units: int = 0, life: bool = False) -> SimulationResult:
     """Monte-Carlo simulation (or ``method="exact"``): distributions of the model's outputs with
     confidence intervals, yield against the specs. Defaults: 10^6 samples, seed 0, the linear
     model, all cores. ``error_model`` (contact/elastic models) overrides the design's reading of
     the per-element errors; ``save_units`` keeps the first units with their errors (see
-    ``measured_units``). See ``rvbacklash.analysis.simulation.simulate``."""
+    ``measured_units``); ``life`` (elastic model; implied by a spec on ``life``, ``rated_torque``,
+    ``weakest_bearing_life`` or ``max_pin_stress``) adds each unit's life outputs (docs/capacity.md).
+    See ``rvbacklash.analysis.simulation.simulate``."""
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     return _simulate(prepare(design), samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin,
                      specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
-                     stream=stream, error_model=error_model, save_units=save_units)
+                     stream=stream, error_model=error_model, save_units=save_units, life=life)
 
 
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
-                 preload: float | None = None) -> dict[str, float]:
+                 preload: float | None = None, life_h: float | None = None,
+                 rated_torque_nm: float | None = None) -> dict[str, float]:
     """The specs beside ``spec_arcmin``, by output name ({"lost_motion": X, "rigidity": K,
-    "preload": P}); each checked against the model that has the output. The command line
-    (``--spec-*`` flags) and the workbench (``"specs"``) read their specs through it."""
+    "preload": P, "life": L, "rated_torque": T}); each checked against the model that has the
+    output. The command line (``--spec-*`` flags) and the workbench (``"specs"``) read their specs
+    through it. A life spec asks the elastic model for its life outputs (docs/capacity.md)."""
     specs = {}
     for name, key, value, models in (("spec_lost_motion_arcmin", "lost_motion", lost_motion, ("elastic",)),
                                      ("spec_rigidity_nm_per_arcmin", "rigidity", rigidity, ("elastic",)),
-                                     ("spec_preload_um", "preload", preload, ("contact", "elastic"))):
+                                     ("spec_preload_um", "preload", preload, ("contact", "elastic")),
+                                     ("spec_life_h", "life", life_h, ("elastic",)),
+                                     ("spec_rated_torque_nm", "rated_torque", rated_torque_nm, ("elastic",))):
         if value is None:
             continue
         if model not in models:

@@ -5,9 +5,10 @@ losses work read (each contact's force at each angle; its geometry through ``Loa
 
 One crank revolution against the carrier is Delta chi = 2 pi z_c / z_p of the eccentric's angle
 chi (the output turns 1 / z_p of a revolution): every crank bore sweeps once round its disc's
-eccentric, the pins' pattern repeats z_c times (once per pin pitch of chi). ``CrankAngles`` spreads
-K angles evenly over it (``crank_angles``); for a unit with errors each angle also meets other
-pins and teeth (the angles lie z_c / K pin pitches apart).
+eccentric, the pins' pattern repeats z_c times (once per pin pitch of chi). ``CrankAngles`` takes
+K angles that sweep it evenly and lie in as many places of an output revolution (``crank_angles``):
+the nominal unit sees one crank revolution, a unit with errors also meets its pins and teeth at K
+places of its output revolution.
 """
 
 from __future__ import annotations
@@ -65,11 +66,16 @@ def needle_rollers(model: ElasticModel) -> RollerSet:
 
 
 def crank_angles(chi0_rad: float, zc: int, zp: int, angles: int) -> np.ndarray:
-    """K crank angles evenly over one crank revolution against the carrier from chi0:
-    chi_k = chi0 + 2 pi (z_c / z_p) k / K [rad]."""
+    """K crank angles from chi0 that sweep one crank revolution against the carrier evenly and spread
+    over one output revolution: chi_k = chi0 + 2 pi (z_c / z_p) (k / K + floor(k z_p / K)) [rad]. A
+    whole crank revolution (2 pi z_c / z_p of chi) brings every crank bore back to the same place
+    against its eccentric and the pins' nominal pattern back to itself (z_c pin pitches), so the
+    nominal unit's states are those of one crank revolution; a unit's pins and teeth meet each other
+    at K places of its output revolution."""
     if not (isinstance(angles, int) and 1 <= angles <= MAX_ANGLES):
         raise InputError("angles", angles, f"allowed: an integer from 1 to {MAX_ANGLES} (crank angles per revolution)")
-    return chi0_rad + 2.0 * math.pi * zc / zp * np.arange(angles) / angles
+    k = np.arange(angles)
+    return chi0_rad + 2.0 * math.pi * zc / zp * (k / angles + np.floor(k * zp / angles))
 
 
 class CrankAngles:

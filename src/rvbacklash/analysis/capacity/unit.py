@@ -23,6 +23,8 @@ from rvbacklash.problem import Problem
 
 ROOT_RTOL = 1e-9  # relative tolerance of the rated torque and the momentary maximum's root searches (in ln T)
 SEARCH_LIMIT = 1e3  # at most this many times the rated torque is searched for a static limit
+LOWEST_DECADES = 8  # a root search below its start by this many decades ends at T = 0 (e.g. a unit whose preload
+#                     alone takes its bearings' life below the rated life: its rated torque is 0)
 STATIC_ELEMENTS = ("crank needle bearings", "crank support bearings", "pins and flanks")
 
 
@@ -138,8 +140,9 @@ class UnitCapacity:
 
 
 def _bracketed_root(f, x0: float, falling: bool, limit: float = math.inf) -> float:
-    """The root of a monotone f (falling or rising in x) near x0: a bracket grown by steps of ln 1.5,
-    then Brent's method to ROOT_RTOL."""
+    """The root of a monotone f (falling or rising in x = ln T) near x0: a bracket grown by steps of
+    ln 1.5, then Brent's method to ROOT_RTOL; -inf (T = 0) when f keeps its sign LOWEST_DECADES below
+    x0 (the condition already holds at no load)."""
     from scipy.optimize import brentq
 
     step = math.log(1.5)
@@ -151,6 +154,8 @@ def _bracketed_root(f, x0: float, falling: bool, limit: float = math.inf) -> flo
     a, fa = x0, f0
     for _ in range(200):
         b = a + direction * step
+        if direction < 0.0 and b < x0 - LOWEST_DECADES * math.log(10.0):
+            return -math.inf  # no torque small enough: the condition holds unloaded (a preloaded unit): T = 0
         if b > limit:
             raise InputError("torque", math.exp(limit), "no static limit is reached below this output torque "
                                                        "(a design far outside its class?)")
