@@ -224,7 +224,7 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 allocate_model: str | None = None,
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
-                progress: Callable[[int], None] | None = None) -> ReportData:
+                progress: Callable[[int], None] | None = None, capacity: bool = False) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
@@ -234,8 +234,9 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     meeting ``spec_arcmin`` [and ``spec_rigidity_nm_per_arcmin``, ``spec_preload_um``] at ``yield_target`` (with
     the Sobol chart) with ``allocate_model`` (default: ``model``; e.g. "linear" for a fast, conservative
     allocation beside a Monte-Carlo report) and ``allocate_samples`` per candidate (Monte-Carlo models);
-    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``). An
-    interrupted simulation skips what follows it; the data are then marked partial."""
+    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``); ``capacity``: the capacity and life
+    section (docs/capacity.md). An interrupted simulation skips what follows it; the data are then marked
+    partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
     from rvbacklash.analysis.scenarios import Comparison
@@ -304,8 +305,13 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                           spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
                           workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
+    cap = None
+    if capacity:  # the capacity and life section (issue 37; docs/capacity.md): the nominal unit's datasheet
+        from rvbacklash.analysis.capacity import capacity_rating
+
+        cap = capacity_rating(problem)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission)
+                             elastic, sweep, transmission, cap)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,

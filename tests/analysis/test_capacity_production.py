@@ -91,3 +91,10 @@ def test_the_one_angle_reading_against_the_full_computation(rv80e):
     torque = torque[np.isfinite(torque)]
     assert np.median(np.abs(np.log(life))) < math.log(1.5)
     assert np.median(np.abs(torque - 1)) < 0.15
+
+
+def test_sobol_indices_of_life(rv80e):
+    # which tolerances shorten life: the elastic model's life output through the same Sobol machinery
+    r = api.sensitivity(rv80e[0], model="elastic", output="life", samples=64, resamples=100)
+    assert r.output == "life" and r.unit == "h"
+    assert len(r.rows()) > 5 and all(math.isfinite(row["total"]) for row in r.rows() if "total" in row)

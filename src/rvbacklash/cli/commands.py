@@ -230,6 +230,8 @@ def report(
     sweep: Optional[Path] = typer.Option(None, "--sweep", help="Add a finished sweep's results (the --out DIR of "
                                                                "`rvbacklash sweep`).", metavar="DIR"),
     workers: int = WORKERS_OPTION,
+    capacity: bool = typer.Option(False, "--capacity", help="Add the capacity and life section (the nominal unit's "
+                                                            "bearings, lives, derived ratings: docs/capacity.md)."),
     json_out: Optional[str] = json_option("every number of the report"),
     csv_out: Optional[str] = csv_option("the key numbers"),
     fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
@@ -268,7 +270,7 @@ def report(
                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec,
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
-                               progress=progress)
+                               progress=progress, capacity=capacity)
     summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
                "key_numbers": data.key_numbers()}
     rows = data.rows()

@@ -251,5 +251,7 @@ class ElasticStreams:
         return out
 
 
-def elastic_streams(problem: Problem) -> ElasticStreams:
-    return ElasticStreams(elastic_source(problem, "default", 0), tuple(bool(x) for x in problem.random_mask) + (True,))
+def elastic_streams(problem: Problem, life: LifeTables | None = None) -> ElasticStreams:
+    """The elastic model for global sensitivity; with ``life`` (LifeTables) its life outputs too."""
+    return ElasticStreams(elastic_source(problem, "default", 0, life=life),
+                          tuple(bool(x) for x in problem.random_mask) + (True,))

@@ -184,9 +184,34 @@ def unit_life(unit, design, tables, scratch, figures, out):
     loop_figures(LoopUnit(pins, rollers, max(unit.involute_backlash_rad, 0.0)), design.points, c, state, figures,
                  scratch.angles)
     st = state[0]
-    t = tables.torque_nm
-    x = solve_pins(pins, t, 1.0, st.pins_start[POSITIVE], c,
-                   (st.pins_tangent_load_nm[POSITIVE], st.pins_tangent_stiffness[POSITIVE])).x
+    start = (st.pins_start[POSITIVE], (st.pins_tangent_load_nm[POSITIVE], st.pins_tangent_stiffness[POSITIVE]))
+    life, weakest, stress = _life_at(pins, unit, tables.torque_nm, start, c, tables, scratch)
+    out[LIFE] = life
+    out[WEAKEST] = weakest
+    out[PIN_STRESS] = stress
+    # the rated torque: life ~ (p0 + (1 - p0) T / T_R)^-beta through the life at T_R and at no torque (a preloaded
+    # unit's pins load its bearings unloaded: p0 = (L_0 / L_R)^(-1/beta); a free unit's p0 = 0, a power law)
+    beta = tables.life_exponent
+    p0 = 0.0
+    bounds = pins.contacts.bounds
+    if bounds.hi < bounds.lo:  # preloaded: no rotation frees every pin
+        life0 = _life_at(pins, unit, 0.0, (st.pins_start[POSITIVE], (np.nan, np.nan)), c, tables, scratch)[0]
+        p0 = min((life0 / life) ** (-1.0 / beta), 1.0) if life0 < np.inf else 0.0
+    target = (life / tables.nominal_life_h) ** (1.0 / beta) * tables.nominal_rated_torque_nm / tables.torque_nm
+    if p0 >= 1.0 or target <= p0:
+        out[RATED_TORQUE] = 0.0  # the preload alone takes the life below the rated life
+    else:
+        out[RATED_TORQUE] = tables.torque_nm * (target - p0) / (1.0 - p0)
+
+
+@njit(nogil=True, cache=True)
+def _life_at(pins, unit, torque_nm, start, c, tables, scratch):
+    """(reducer life [h], weakest bearing's life [h], largest pin stress [MPa]) of a unit whose pins
+    (``pins``, in closure order with scratch.order) are solved at the chain torque ``torque_nm``
+    (module docstring), ``start``: (guess, (tangent load, tangent stiffness)) of ``solver.solve_pins``."""
+    g = tables.geometry
+    translating = c.radial_stiffness_n_per_um < np.inf
+    x = solve_pins(pins, torque_nm, 1.0, start[0], c, start[1]).x
     cs = pins.contacts
     gaps = pins.translation.shifted_gaps_um if translating else cs.gaps
     discs, zp = scratch.forces.shape
@@ -216,7 +241,7 @@ def unit_life(unit, design, tables, scratch, figures, out):
         for k in range(cranks):
             s += math.hypot(scratch.bearing[d, k, 0], scratch.bearing[d, k, 1]) ** LIFE_EXPONENT
         peq = (s / cranks) ** (1.0 / LIFE_EXPONENT)
-        if peq <= 0.0:  # a disc that carries nothing at T_R (the other takes it all): its bearings never fail
+        if peq <= 0.0:  # a disc that carries nothing (the other takes it all): its bearings never fail
             continue
         ref = _interp_periodic(tables.chi_grid_rad, tables.nominal_needle_peq[d], chi, pitch)
         life = math.exp(needle_log_life(tables, unit.crank_clearance_um, math.log(peq / ref)))
@@ -236,11 +261,7 @@ def unit_life(unit, design, tables, scratch, figures, out):
             life = math.exp(tables.log_support_life[end]) * (peq / ref) ** -LIFE_EXPONENT
             total += cranks * life ** -WEIBULL_SLOPE
             weakest = min(weakest, life)
-    life = total ** (-1.0 / WEIBULL_SLOPE)
-    out[LIFE] = life
-    out[WEAKEST] = weakest
-    out[RATED_TORQUE] = tables.nominal_rated_torque_nm * (life / tables.nominal_life_h) ** (1.0 / tables.life_exponent)
-    out[PIN_STRESS] = stress
+    return (total ** (-1.0 / WEIBULL_SLOPE) if total > 0.0 else np.inf), weakest, stress
 
 
 @njit(nogil=True, cache=True)
