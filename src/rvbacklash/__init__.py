@@ -38,6 +38,8 @@ _EXPORTS = {
     "sweep": "rvbacklash.api",
     "read_bench": "rvbacklash.api",
     "calibrate": "rvbacklash.api",
+    "capacity": "rvbacklash.api",
+    "read_duty_cycle": "rvbacklash.design.duty_cycle",
     "plan_sweep": "rvbacklash.analysis.sweep",
     "load_sweep": "rvbacklash.analysis.sweep",
     "SweepResult": "rvbacklash.analysis.sweep",

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.bench import BenchResult
     from rvbacklash.analysis.calibration import CalibrationResult
+    from rvbacklash.analysis.capacity import CapacityResult
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
@@ -62,28 +63,34 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: Iterable[float] = (), workers: int | None = None, model: str | Callable = "linear",
              progress: Callable[[int], None] | None = None, stream: tuple[int, ...] = (),
-             error_model: str | None = None, save_units: int = 0) -> SimulationResult:
+             error_model: str | None = None, save_units: int = 0, life: bool = False) -> SimulationResult:
     """Monte-Carlo simulation (or ``method="exact"``): distributions of the model's outputs with
     confidence intervals, yield against the specs. Defaults: 10^6 samples, seed 0, the linear
     model, all cores. ``error_model`` (contact/elastic models) overrides the design's reading of
     the per-element errors; ``save_units`` keeps the first units with their errors (see
-    ``measured_units``). See ``rvbacklash.analysis.simulation.simulate``."""
+    ``measured_units``); ``life`` (elastic model; implied by a spec on ``life``, ``rated_torque``,
+    ``weakest_bearing_life`` or ``max_pin_stress``) adds each unit's life outputs (docs/capacity.md).
+    See ``rvbacklash.analysis.simulation.simulate``."""
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     return _simulate(prepare(design), samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin,
                      specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
-                     stream=stream, error_model=error_model, save_units=save_units)
+                     stream=stream, error_model=error_model, save_units=save_units, life=life)
 
 
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
-                 preload: float | None = None) -> dict[str, float]:
+                 preload: float | None = None, life_h: float | None = None,
+                 rated_torque_nm: float | None = None) -> dict[str, float]:
     """The specs beside ``spec_arcmin``, by output name ({"lost_motion": X, "rigidity": K,
-    "preload": P}); each checked against the model that has the output. The command line
-    (``--spec-*`` flags) and the workbench (``"specs"``) read their specs through it."""
+    "preload": P, "life": L, "rated_torque": T}); each checked against the model that has the
+    output. The command line (``--spec-*`` flags) and the workbench (``"specs"``) read their specs
+    through it. A life spec asks the elastic model for its life outputs (docs/capacity.md)."""
     specs = {}
     for name, key, value, models in (("spec_lost_motion_arcmin", "lost_motion", lost_motion, ("elastic",)),
                                      ("spec_rigidity_nm_per_arcmin", "rigidity", rigidity, ("elastic",)),
-                                     ("spec_preload_um", "preload", preload, ("contact", "elastic"))):
+                                     ("spec_preload_um", "preload", preload, ("contact", "elastic")),
+                                     ("spec_life_h", "life", life_h, ("elastic",)),
+                                     ("spec_rated_torque_nm", "rated_torque", rated_torque_nm, ("elastic",))):
         if value is None:
             continue
         if model not in models:
@@ -218,7 +225,7 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 allocate_model: str | None = None,
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
-                progress: Callable[[int], None] | None = None) -> ReportData:
+                progress: Callable[[int], None] | None = None, capacity: bool = False) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
@@ -228,8 +235,9 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     meeting ``spec_arcmin`` [and ``spec_rigidity_nm_per_arcmin``, ``spec_preload_um``] at ``yield_target`` (with
     the Sobol chart) with ``allocate_model`` (default: ``model``; e.g. "linear" for a fast, conservative
     allocation beside a Monte-Carlo report) and ``allocate_samples`` per candidate (Monte-Carlo models);
-    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``). An
-    interrupted simulation skips what follows it; the data are then marked partial."""
+    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``); ``capacity``: the capacity and life
+    section (docs/capacity.md). An interrupted simulation skips what follows it; the data are then marked
+    partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
     from rvbacklash.analysis.scenarios import Comparison
@@ -298,8 +306,13 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                           spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
                           workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
+    cap = None
+    if capacity:  # the capacity and life section (issue 37; docs/capacity.md): the nominal unit's datasheet
+        from rvbacklash.analysis.capacity import capacity_rating
+
+        cap = capacity_rating(problem)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission)
+                             elastic, sweep, transmission, cap)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
@@ -327,6 +340,23 @@ def hysteresis(design: DesignLike, *, measured: str | Path | None = None, unit: 
     from rvbacklash.analysis.hysteresis import hysteresis as _hysteresis
 
     return _hysteresis(prepare(design), measured=measured, unit=unit, points=points)
+
+
+def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
+             life_method: str | None = None) -> CapacityResult:
+    """The capacity and life datasheet of the nominal unit (docs/capacity.md): every crank bearing's
+    load over a revolution, rating and L10 at the stated rated torque and the rated output speed, the
+    reducer's life, the derived rated torque, the momentary maximum torque and its limiting element,
+    the allowable acceleration torque, the main bearings' moment rigidity and allowable moment, and a
+    duty cycle's life (``duty_cycle``: a CSV or TOML file, design/duty_cycle.py). ``angles``: crank
+    angles per revolution (default 24); ``life_method``: iso16281 or iso281 (default: the design's
+    [capacity] life_method). The design needs [elastic] and [structure]."""
+    from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_rating
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
+    return capacity_rating(prepare(design), angles=DEFAULT_ANGLES if angles is None else angles, duty_cycle=cycle,
+                           life_method=life_method)
 
 
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,

@@ -117,6 +117,9 @@ class LinearStreams:
         return y[None, :]
 
 
+LIFE_OUTPUTS = ("life", "weakest_bearing_life", "rated_torque", "max_pin_stress")  # = analysis.simulation's
+
+
 def _contact(problem: Problem) -> StreamModel:
     from rvbacklash.sampling.contact_source import contact_streams
 
@@ -350,7 +353,14 @@ def global_sensitivity(problem: Problem, *, model: str | StreamModel = "linear",
         raise InputError("design", problem.name, f"has correlated factors ({listed}): Sobol indices assume "
                                                  f"independent inputs; allowed: a design without [correlation] "
                                                  f"(analyze's variance shares cover covariances)")
-    sm = stream_model(problem, model) if isinstance(model, str) else model
+    if model == "elastic" and output in LIFE_OUTPUTS:  # the life outputs (issue 37): the elastic model with its tables
+        from rvbacklash.analysis.capacity.production import life_tables
+        from rvbacklash.models.elastic import elastic_model
+        from rvbacklash.sampling.elastic_source import elastic_streams
+
+        sm = elastic_streams(problem, life_tables(problem, elastic_model(problem)))
+    else:
+        sm = stream_model(problem, model) if isinstance(model, str) else model
     model_name = model if isinstance(model, str) else getattr(model, "name", type(model).__name__)
     names = [o.name for o in sm.outputs]
     out_name = names[0] if output is None else output

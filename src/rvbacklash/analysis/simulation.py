@@ -66,6 +66,22 @@ def _transmission(problem: Problem, method: str, seed: int, stream: tuple[int, .
     return transmission_source(problem, method, seed, stream, save_units=save_units)
 
 
+def _elastic_life(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
+                  save_units: int = 0) -> BlockSource:
+    """The elastic model with the life outputs (issue 37; docs/capacity.md, "Production run")."""
+    from rvbacklash.analysis.capacity.production import life_tables
+    from rvbacklash.models.elastic import elastic_model
+    from rvbacklash.sampling.elastic_source import elastic_source
+
+    if method != "default":
+        raise InputError("method", method, "allowed with model 'elastic': default")
+    return elastic_source(problem, method, seed, stream, save_units=save_units,
+                          life=life_tables(problem, elastic_model(problem)))
+
+
+LIFE_OUTPUTS = ("life", "weakest_bearing_life", "rated_torque", "max_pin_stress")  # the elastic model's, when asked
+
+
 # name -> factory(problem, method, seed, stream, save_units=0) of the model's block source
 MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact, "elastic": _elastic,
                                                  "transmission": _transmission}
@@ -232,7 +248,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: tuple[float, ...] = (), workers: int | None = None, chunk_blocks: int = 4,
              model: str | Callable = "linear", progress: Callable[[int], None] | None = None,
-             stream: tuple[int, ...] = (), error_model: str | None = None, save_units: int = 0) -> SimulationResult:
+             stream: tuple[int, ...] = (), error_model: str | None = None, save_units: int = 0,
+             life: bool = False) -> SimulationResult:
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
@@ -247,7 +264,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     the same seed: block b draws from ``SeedSequence(seed, spawn_key=(*stream, b))``. Ctrl-C
     returns the finished blocks with ``partial=True``. ``error_model`` ("long_wave" |
     "independent") overrides the design's ``[contact]`` reading of the per-element errors;
-    ``save_units`` keeps the first units with their errors (``result.units``).
+    ``save_units`` keeps the first units with their errors (``result.units``). ``life`` (elastic
+    model; implied by a spec on a life output): each unit's life, weakest bearing's life, derived
+    rated torque and largest pin stress beside its precision figures (docs/capacity.md).
     """
     from rvbacklash.sampling.engine import BLOCK_SIZE
 
@@ -273,8 +292,12 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
         if model != "linear":
             raise InputError("method", "exact", "allowed with model linear only (the exact distribution of Eq. (2))")
         return exact_result(problem, spec_arcmin=spec_arcmin, quantiles=qs)
+    wants_life = life or any(k in LIFE_OUTPUTS for k in (specs or {}))
+    if wants_life and model != "elastic":
+        raise InputError("life", True, "allowed with model 'elastic' only (the life outputs come from its load solution)")
     if isinstance(model, str):
-        source = MODELS[model](problem, method, int(seed), tuple(int(x) for x in stream), save_units=int(save_units))
+        factory = _elastic_life if wants_life else MODELS[model]
+        source = factory(problem, method, int(seed), tuple(int(x) for x in stream), save_units=int(save_units))
         model_name = model
     else:
         source = linear_source(method, int(seed), build_input_transform(problem), model, None, tuple(stream))
