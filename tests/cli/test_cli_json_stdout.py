@@ -56,6 +56,7 @@ def invocations(d) -> dict[str, list]:
         "allocate": ["allocate", d / "costs.toml", "--spec-arcmin", "3", "--yield", "0.99"],
         "hysteresis": ["hysteresis", "rv80e", "--points", "5"],
         "transmission-error": ["transmission-error", "rv80e"],
+        "capacity": ["capacity", "rv80e", "--angles", "8"],
         "bench": ["bench", d / "loop.csv"],
         "calibrate": ["calibrate", "rv80e", "--bench", d / "loop.csv", "-n", "0"],
         "sweep": ["sweep", d / "sweep.toml", "--out", d / "sweep-out", "--scheduler", "inline", "--force"],
