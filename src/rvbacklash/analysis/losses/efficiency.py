@@ -14,7 +14,8 @@ import math
 from dataclasses import dataclass, field
 
 from rvbacklash.analysis.capacity import UnitCapacity
-from rvbacklash.analysis.losses.elements import ELEMENTS, LossBreakdown, loss_context, element_losses
+from rvbacklash.analysis.losses.elements import ELEMENTS, LossBreakdown, element_losses, loss_context
+from rvbacklash.analysis.losses.thermal import ThermalResult, thermal_balance
 from rvbacklash.design.lubrication import LubricationInputs
 from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model, nominal_realization, other_stages_nominal
@@ -113,7 +114,7 @@ class EfficiencyResult(Result):
     starting_efficiency: float  # at the rated torque, breakaway (static friction, no viscous terms)
     back_driving_torque_nm: float  # at the output, input free; inf: self-locking
     assumptions: tuple[str, ...]
-    thermal: object = field(default=None)  # ThermalResult with a duty cycle (analysis/losses/thermal.py)
+    thermal: ThermalResult | None = None  # with a duty cycle: its heat balance (analysis/losses/thermal.py)
     _breakdown: LossBreakdown | None = field(default=None, metadata={EXPORT: False})
 
     def summary(self) -> list[str]:
@@ -176,6 +177,11 @@ def _check(name: str, values, lo: float, hi: float) -> tuple[float, ...]:
     return out
 
 
+def progress_steps(torque_fractions=DEFAULT_TORQUE_FRACTIONS, duty_cycle=None) -> int:
+    """How many steps ``efficiency_rating`` reports to its progress callback."""
+    return 3 + len(tuple(torque_fractions)) + (duty_cycle is not None)
+
+
 def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, temperature_c: float | None = None,
                       output_speed_rpm: float | None = None, torque_fractions=DEFAULT_TORQUE_FRACTIONS,
                       output_speeds_rpm=DEFAULT_OUTPUT_SPEEDS_RPM, temperatures_c=DEFAULT_TEMPERATURES_C,
@@ -197,7 +203,13 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
     n0 = problem.design.capacity.rated_output_speed_rpm if output_speed_rpm is None else \
         _check("output_speed_rpm", [output_speed_rpm], 1e-6, 1e5)[0]
     t_r = lm.rated_torque_nm
-    tick = progress or (lambda: None)
+    done = [0]
+
+    def tick() -> None:  # the progress callback gets the steps done (``progress_steps``)
+        done[0] += 1
+        if progress is not None:
+            progress(done[0])
+
     rated = lm.point(t_r, n0, temp)
     tick()
     grid = []
@@ -214,8 +226,8 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
     tick()
     thermal = None
     if duty_cycle is not None:
-        from rvbacklash.analysis.losses.thermal import thermal_balance
         thermal = thermal_balance(lm, duty_cycle)
+        tick()
     nu = fr.kinematic_viscosity_mm2_s(temp, lube.viscosity_40c_mm2_s, lube.viscosity_100c_mm2_s)
     assumptions = (
         "nominal unit; loads from the elastic chain at the output torque over one crank revolution (friction does not "
