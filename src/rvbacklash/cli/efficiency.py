@@ -61,6 +61,9 @@ def print_efficiency(r, console) -> None:
     console.print(f"starting (breakaway) torque at the input, no load: {r.starting_torque_nm:.4f} N m; starting "
                   f"efficiency at {r.rated_torque_nm:g} N m: {r.starting_efficiency:.1%}; back-driving torque at the "
                   f"output: {back}")
+    console.print(f"breakaway friction at the output: {r.breakaway_torque_at_output_nm:.2f} N m + "
+                  f"{r.breakaway_load_fraction:.3f} |T| (the hysteresis loop uses the stated "
+                  f"friction_torque_nm = {r.stated_friction_torque_nm:g} N m; not fed in)")
     th = r.thermal
     if th is not None:
         u = Table(title=f"Thermal balance of {escape(th.duty_cycle)}", title_justify="left")

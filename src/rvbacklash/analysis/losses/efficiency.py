@@ -113,6 +113,9 @@ class EfficiencyResult(Result):
     starting_torque_nm: float  # breakaway at the input, no load
     starting_efficiency: float  # at the rated torque, breakaway (static friction, no viscous terms)
     back_driving_torque_nm: float  # at the output, input free; inf: self-locking
+    breakaway_torque_at_output_nm: float  # T_0 of the Coulomb friction T_0 + lambda |T| at the output (not fed in)
+    breakaway_load_fraction: float  # lambda
+    stated_friction_torque_nm: float  # [elastic] friction_torque_nm: what the hysteresis loop uses
     assumptions: tuple[str, ...]
     thermal: ThermalResult | None = None  # with a duty cycle: its heat balance (analysis/losses/thermal.py)
     _breakdown: LossBreakdown | None = field(default=None, metadata={EXPORT: False})
@@ -155,18 +158,29 @@ def starting_torque_nm(lm: LossModel, output_torque_nm: float = 0.0) -> float:
     return b.input_torque_nm
 
 
-def back_driving_torque_nm(lm: LossModel) -> float:
-    """The output torque that turns the reducer from its output with the input free [N m]: the
-    load-independent breakaway moments referred to the output, T_0, over 1 - lambda, lambda the
-    load-dependent breakaway losses' share of the transmitted power at the rated torque (linear in the
-    torque): T_b = T_0 / (1 - lambda); inf when lambda >= 1 (self-locking). The chain's loads driven
-    from the output are taken as those driven from the input (the same contacts carry the torque)."""
+def breakaway_at_output(lm: LossModel) -> tuple[float, float]:
+    """(T_0 [N m], lambda [-]): the load-independent breakaway moments referred to the output (seals, the
+    main bearings' preload), and the load-dependent breakaway losses' share of the transmitted power at the
+    rated torque (static coefficient on the pins and the mesh, the bearings' load terms). The friction of a
+    Coulomb model T_f = T_0 + lambda |T| at the output: the form the elastic chain's loop reads
+    ([elastic] friction_torque_nm, friction_load_fraction), reported beside the stated constant, not fed in."""
     t_r = lm.rated_torque_nm
     loaded = lm.point(t_r, 1.0, lm.lubrication.temperature_c, mode="static")
     lam = sum(loaded.load_dependent_w) / loaded.output_power_w
     idle = lm.point(0.0, 1.0, lm.lubrication.temperature_c, mode="static")
     w_out = 2.0 * math.pi / 60.0
     t0 = sum(w - ld for w, ld in zip(idle.loss_w, idle.load_dependent_w)) / w_out
+    return t0, lam
+
+
+def back_driving_torque_nm(lm: LossModel) -> float:
+    """The output torque that turns the reducer from its output with the input free [N m]: the
+    load-independent breakaway moments referred to the output, T_0, over 1 - lambda, lambda the
+    load-dependent breakaway losses' share of the transmitted power at the rated torque (linear in the
+    torque; ``breakaway_at_output``): T_b = T_0 / (1 - lambda); inf when lambda >= 1 (self-locking). The
+    chain's loads driven from the output are taken as those driven from the input (the same contacts carry
+    the torque)."""
+    t0, lam = breakaway_at_output(lm)
     return t0 / (1.0 - lam) if lam < 1.0 else math.inf
 
 
@@ -223,6 +237,7 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
     start = starting_torque_nm(lm)
     start_loaded = lm.point(t_r, 1.0, temp, mode="static")
     back = back_driving_torque_nm(lm)
+    t0, lam = breakaway_at_output(lm)
     tick()
     thermal = None
     if duty_cycle is not None:
@@ -246,4 +261,5 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
                             float(rated.efficiency), float(rated.input_torque_nm), rated.total_loss_w,
                             rated.output_power_w, rated.pin_film_parameter, rated.pin_friction_coefficient,
                             rated.mesh_friction_coefficient, _elements(rated), tuple(grid), by_temp, no_load, start,
-                            float(start_loaded.efficiency), back, assumptions, thermal, rated)
+                            float(start_loaded.efficiency), back, t0, lam,
+                            problem.design.elastic.friction_torque_nm, assumptions, thermal, rated)
