@@ -156,3 +156,19 @@ def test_equal_expansion_coefficients_leave_the_clearances(problem, lm):
     warm = precision_at_temperature(problem, lm.model, problem.design.thermal, 60.0)
     assert warm.clearance.moving_distance_modification_um == pytest.approx(77.5 * 1.5e-6 * 40 * 1e3, abs=0.02)
     assert warm.lost_motion_arcmin < ref.lost_motion_arcmin
+
+
+def test_bearing_friction_lies_in_the_makers_published_range(problem, lm):
+    # JTEKT (Koyo) "Bearing knowledge" 8-4, Table 8-1: M = mu P d / 2 with mu 0.0020-0.0030 for a needle roller
+    # and cage assembly and 0.0017-0.0025 for a tapered roller bearing in stable operation. rv80e's Palmgren
+    # moments at the rated point (40 degC, 15 r/min output: 600 r/min) over the mean load, as that mu:
+    b = lm.point(784.0, 15.0, 40.0)
+    loads = lm.unit.loads(784.0)
+    w_crank = 40 * 15.0 * 2 * math.pi / 60
+    for element, load, bore, (lo, hi) in (("crank needle bearings", loads.crank_bearing_load_magnitude_n, 30.0,
+                                           (0.0020, 0.0030)),
+                                          ("crank support bearings", loads.support_bearing_load_magnitude_n, 25.0,
+                                           (0.0017, 0.0025))):
+        moment_nmm = b.loss_w[ELEMENTS.index(element)] / 6 / w_crank * 1e3
+        mu = moment_nmm / fr.makers_friction_moment_nmm(1.0, float(load.mean()), bore)
+        assert lo <= mu <= hi, (element, mu)
