@@ -64,6 +64,9 @@ def print_efficiency(r, console) -> None:
     console.print(f"breakaway friction at the output: {r.breakaway_torque_at_output_nm:.2f} N m + "
                   f"{r.breakaway_load_fraction:.3f} |T| (the hysteresis loop uses the stated "
                   f"friction_torque_nm = {r.stated_friction_torque_nm:g} N m; not fed in)")
+    console.print("lost motion / backlash of the nominal unit by temperature (the parts' expansion): " + ", ".join(
+        f"{p.temperature_c:g} degC {p.lost_motion_arcmin:.3f} / {p.backlash_arcmin:.3f} arcmin"
+        for p in r.precision_by_temperature))
     th = r.thermal
     if th is not None:
         u = Table(title=f"Thermal balance of {escape(th.duty_cycle)}", title_justify="left")

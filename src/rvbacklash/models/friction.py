@@ -214,7 +214,8 @@ def pin_sliding_speed_m_s(pin_to_pitch_point_mm: float, pin_radius_mm: float, di
     return abs(disc_speed_rad_s) * abs(pin_to_pitch_point_mm - pin_radius_mm) * 1e-3
 
 
-def pin_contact_loss_w(force_n: float, sliding_speed_m_s: float, flank_mu: float, seat_mu: float) -> tuple[float, float]:
+def pin_contact_loss_w(force_n: float, sliding_speed_m_s: float, flank_mu: float,
+                       seat_mu: float) -> tuple[float, float]:
     """(flank loss, seat loss) [W] of one pin contact. The pin turns in its seat when the seat's
     friction is the smaller (it then rolls on the flank and the sliding happens in the seat, at the
     same speed: the seat's radius is the pin's), and stands still otherwise (it slides on the flank):

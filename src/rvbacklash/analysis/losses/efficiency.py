@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 
 from rvbacklash.analysis.capacity import UnitCapacity
 from rvbacklash.analysis.losses.elements import ELEMENTS, LossBreakdown, element_losses, loss_context
-from rvbacklash.analysis.losses.thermal import ThermalResult, thermal_balance
+from rvbacklash.analysis.losses.thermal import (PrecisionAtTemperature, ThermalResult, precision_at_temperature,
+                                               thermal_balance)
 from rvbacklash.design.lubrication import LubricationInputs
 from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model, nominal_realization, other_stages_nominal
@@ -116,6 +117,7 @@ class EfficiencyResult(Result):
     breakaway_torque_at_output_nm: float  # T_0 of the Coulomb friction T_0 + lambda |T| at the output (not fed in)
     breakaway_load_fraction: float  # lambda
     stated_friction_torque_nm: float  # [elastic] friction_torque_nm: what the hysteresis loop uses
+    precision_by_temperature: tuple[PrecisionAtTemperature, ...]  # lost motion and backlash at each temperature
     assumptions: tuple[str, ...]
     thermal: ThermalResult | None = None  # with a duty cycle: its heat balance (analysis/losses/thermal.py)
     _breakdown: LossBreakdown | None = field(default=None, metadata={EXPORT: False})
@@ -125,7 +127,8 @@ class EfficiencyResult(Result):
                 f"{self.rated_output_speed_rpm:g} r/min, {self.temperature_c:g} degC",
                 f"no-load running torque {self.no_load_running_torque[0].no_load_torque_nm:.3g} N m at "
                 f"{self.no_load_running_torque[0].input_speed_rpm:g} r/min input",
-                f"starting torque {self.starting_torque_nm:.3g} N m, back-driving {self.back_driving_torque_nm:.3g} N m"]
+                f"starting torque {self.starting_torque_nm:.3g} N m, "
+                f"back-driving {self.back_driving_torque_nm:.3g} N m"]
 
     def rows(self) -> list[dict]:
         """One row per element at the rated point."""
@@ -238,6 +241,9 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
     start_loaded = lm.point(t_r, 1.0, temp, mode="static")
     back = back_driving_torque_nm(lm)
     t0, lam = breakaway_at_output(lm)
+    th = problem.design.thermal
+    precision = tuple(precision_at_temperature(problem, lm.model, th, t)
+                      for t in sorted({th.reference_temperature_c, *temps}))
     tick()
     thermal = None
     if duty_cycle is not None:
@@ -262,4 +268,4 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
                             rated.output_power_w, rated.pin_film_parameter, rated.pin_friction_coefficient,
                             rated.mesh_friction_coefficient, _elements(rated), tuple(grid), by_temp, no_load, start,
                             float(start_loaded.efficiency), back, t0, lam,
-                            problem.design.elastic.friction_torque_nm, assumptions, thermal, rated)
+                            problem.design.elastic.friction_torque_nm, precision, assumptions, thermal, rated)

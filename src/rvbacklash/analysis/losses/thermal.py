@@ -124,7 +124,7 @@ class ThermalResult(Result):
     allowable_duty_at_limit: float  # share of time the cycle may run for the case to stay at the limit (>= 1: always)
     loss_at_limit_w: float
     heat_at_limit_w: float
-    precision: tuple[PrecisionAtTemperature, ...]  # at the reference temperature, the case limit and the steady temperature
+    precision: tuple[PrecisionAtTemperature, ...]  # at the reference temperature, the case limit, the steady one
     coefficients: dict
 
     def summary(self) -> list[str]:
