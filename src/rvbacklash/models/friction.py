@@ -222,10 +222,13 @@ def pin_contact_loss_w(force_n: float, sliding_speed_m_s: float, flank_mu: float
     the loss is min(mu_flank, mu_seat) F v in the contact that slips (Malhotra & Parameswaran, "Analysis
     of a cycloid speed reducer", Mech. Mach. Theory 18 (1983) 491-499: the rotating-pin case; the seat
     reaction taken equal to the flank force; rolling resistance left out)."""
-    p = abs(force_n) * sliding_speed_m_s
-    if seat_mu < flank_mu:
-        return 0.0, seat_mu * p
-    return flank_mu * p, 0.0
+    p = np.abs(np.asarray(force_n, float)) * sliding_speed_m_s
+    seat = np.asarray(seat_mu < flank_mu)
+    flank_w = np.where(seat, 0.0, flank_mu * p)
+    seat_w = np.where(seat, seat_mu * p, 0.0)
+    if flank_w.ndim == 0:
+        return float(flank_w), float(seat_w)
+    return flank_w, seat_w
 
 
 # --- the thermal balance -------------------------------------------------------------------------

@@ -205,10 +205,9 @@ def element_losses(ctx: LossContext, loads: RevolutionLoads, output_speed_rpm: f
                                                             lube.full_film_friction_coefficient))
         mu_seat = lube.pin_seat_friction_coefficient
         lam_mean = float(np.mean(lam[loaded])) if loaded.any() else math.nan
-    p_slide = np.abs(f) * v
-    seat = mu_seat < mu_flank
-    flank_w = float(np.sum(np.where(seat, 0.0, mu_flank * p_slide))) / f.shape[0]
-    seat_w = float(np.sum(np.where(seat, mu_seat * p_slide, 0.0))) / f.shape[0]
+    flank, seat = fr.pin_contact_loss_w(f, v, mu_flank, mu_seat)
+    flank_w = float(np.sum(flank)) / f.shape[0]
+    seat_w = float(np.sum(seat)) / f.shape[0]
     weight = float(np.sum(f[loaded]))
     mu_pins = float(np.sum(np.minimum(mu_flank, mu_seat)[loaded] * f[loaded]) / weight) if weight > 0 else math.nan
 
