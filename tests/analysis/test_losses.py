@@ -172,3 +172,18 @@ def test_bearing_friction_lies_in_the_makers_published_range(problem, lm):
         moment_nmm = b.loss_w[ELEMENTS.index(element)] / 6 / w_crank * 1e3
         mu = moment_nmm / fr.makers_friction_moment_nmm(1.0, float(load.mean()), bore)
         assert lo <= mu <= hi, (element, mu)
+
+
+def test_a_production_runs_efficiency_is_seeded_and_its_yield_counts_its_units(problem):
+    from rvbacklash.analysis.losses.production import efficiency_run
+
+    a = efficiency_run(problem, units=4, seed=3, angles=4, spec_min_efficiency=0.8)
+    b = efficiency_run(problem, units=4, seed=3, angles=4, spec_min_efficiency=0.8)
+    assert [u.efficiency for u in a.per_unit] == [u.efficiency for u in b.per_unit]
+    effs = [u.efficiency for u in a.per_unit]
+    assert a.yield_ == sum(e >= 0.8 for e in effs) / 4 and a.min == min(effs) and a.max == max(effs)
+    assert all(0.0 < e < 1.0 for e in effs)
+    # each unit's preload or play as its run recorded it: one of the two
+    assert all((u.cycloid_preload_um > 0) != (u.cycloid_play_arcmin == u.cycloid_play_arcmin) for u in a.per_unit)
+    with pytest.raises(InputError, match="units"):
+        efficiency_run(problem, units=0)

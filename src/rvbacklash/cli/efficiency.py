@@ -11,7 +11,7 @@ import typer
 
 from rvbacklash.cli.app import app
 from rvbacklash.cli.common import (DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, QUIET_OPTION, Format, Outputs, command,
-                                   csv_option, json_option, progress_bar, stdout_console)
+                                   SEED_OPTION, csv_option, json_option, progress_bar, stdout_console)
 
 
 def print_efficiency(r, console) -> None:
@@ -67,6 +67,18 @@ def print_efficiency(r, console) -> None:
     console.print("lost motion / backlash of the nominal unit by temperature (the parts' expansion): " + ", ".join(
         f"{p.temperature_c:g} degC {p.lost_motion_arcmin:.3f} / {p.backlash_arcmin:.3f} arcmin"
         for p in r.precision_by_temperature))
+    run = r.production
+    if run is not None:
+        line = (f"production run ({run.units} units, seed {run.seed}): efficiency at the rated point mean "
+                f"{run.mean:.1%}, sigma {run.sigma:.1%}, min {run.min:.1%}, median {run.median:.1%}, max {run.max:.1%} "
+                f"(nominal {run.nominal_efficiency:.1%})")
+        if run.yield_ is not None:
+            line += f"; yield at >= {run.spec_min_efficiency:.1%}: {run.yield_:.1%}"
+        console.print(line)
+        preloaded = [u for u in run.per_unit if u.cycloid_preload_um > 0.0]
+        if preloaded:
+            console.print(f"  {len(preloaded)} preloaded units (their pins bear on both flanks): mean efficiency "
+                          f"{sum(u.efficiency for u in preloaded) / len(preloaded):.1%}")
     th = r.thermal
     if th is not None:
         u = Table(title=f"Thermal balance of {escape(th.duty_cycle)}", title_justify="left")
@@ -103,6 +115,12 @@ def efficiency(
     output_speed: Optional[float] = typer.Option(None, "--output-speed", help="The rated point's output speed [r/min] "
                                                  "(default: [capacity] rated_output_speed_rpm)."),
     angles: Optional[int] = typer.Option(None, "--angles", help="Crank angles per revolution (default 12)."),
+    units: int = typer.Option(0, "--units", help="Also this many units of the elastic model's production run (the "
+                                                 "units `simulate --model elastic` draws with --seed), each followed "
+                                                 "through the crank angles: their efficiency at the rated point."),
+    seed: int = SEED_OPTION,
+    spec_min_efficiency: Optional[float] = typer.Option(None, "--spec-min-efficiency", help="With --units: the yield "
+                                                        "of efficiency >= this (0-1) at the rated point."),
     json_out: Optional[str] = json_option("the efficiency, the losses per element, the map, no-load, starting and "
                                           "back-driving torques, the thermal balance"),
     csv_out: Optional[str] = csv_option("one row per element at the rated point"),
@@ -118,14 +136,18 @@ def efficiency(
     no-load running torque against input speed, the starting and back-driving torques; with
     --duty-cycle, the steady case temperature and lost motion and backlash there."""
     import rvbacklash.api as api
+    from rvbacklash.errors import InputError
     from rvbacklash.analysis.losses.efficiency import progress_steps
     from rvbacklash.report.efficiency_plots import efficiency_svg
     from rvbacklash.report.files import render_csv, render_json
 
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
-    with progress_bar(progress_steps(duty_cycle=duty_cycle), what="losses", enabled=not quiet) as progress:
+    if spec_min_efficiency is not None and not units:
+        raise InputError("spec_min_efficiency", spec_min_efficiency, "allowed: with --units (a production run)")
+    with progress_bar(progress_steps(duty_cycle=duty_cycle, units=units), what="losses", enabled=not quiet) as progress:
         result = api.efficiency(design, duty_cycle=duty_cycle, angles=angles, temperature_c=temperature,
-                                output_speed_rpm=output_speed, progress=progress)
+                                output_speed_rpm=output_speed, units=units, seed=seed,
+                                spec_min_efficiency=spec_min_efficiency, progress=progress)
     data, rows = result.to_dict(), result.rows()
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
                 "--plot": lambda: efficiency_svg(result)},

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 from rvbacklash.analysis.capacity import UnitCapacity
 from rvbacklash.analysis.losses.elements import ELEMENTS, LossBreakdown, element_losses, loss_context
+from rvbacklash.analysis.losses.run_results import EfficiencyRun
 from rvbacklash.analysis.losses.thermal import (PrecisionAtTemperature, ThermalResult, precision_at_temperature,
                                                thermal_balance)
 from rvbacklash.design.lubrication import LubricationInputs
@@ -31,14 +32,21 @@ DEFAULT_INPUT_SPEEDS_RPM = (500.0, 1000.0, 2000.0, 3000.0, 4000.0)
 
 
 class LossModel:
-    """A design's nominal unit ready for its losses at any torque, speed and temperature (its loads
-    per torque cached). ``lubrication`` overrides the design's [lubrication] (e.g. zero friction)."""
+    """A design's unit ready for its losses at any torque, speed and temperature (its loads per torque
+    cached): the nominal unit, or a unit of a production run (``realization`` with its crank bearings'
+    clearance ``crank_clearance_um``; its crank angle is the first of the K). ``lubrication`` overrides
+    the design's [lubrication] (e.g. zero friction)."""
 
-    def __init__(self, problem: Problem, angles: int = DEFAULT_ANGLES, lubrication: LubricationInputs | None = None):
+    def __init__(self, problem: Problem, angles: int = DEFAULT_ANGLES, lubrication: LubricationInputs | None = None,
+                 realization=None, crank_clearance_um: float | None = None, model=None):
         self.problem = problem
-        self.model = elastic_model(problem)
+        self.model = model or elastic_model(problem)
         inv, clr = other_stages_nominal(problem)
-        self.unit = UnitCapacity(problem, self.model, nominal_realization(problem), inv, clr, angles)
+        if realization is None:
+            realization = nominal_realization(problem)
+        else:
+            inv, clr = 0.0, float(crank_clearance_um if crank_clearance_um is not None else clr)
+        self.unit = UnitCapacity(problem, self.model, realization, inv, clr, angles)
         self.angles = angles
         self.lubrication = lubrication or problem.design.lubrication
         self._ctx = None
@@ -120,6 +128,7 @@ class EfficiencyResult(Result):
     precision_by_temperature: tuple[PrecisionAtTemperature, ...]  # lost motion and backlash at each temperature
     assumptions: tuple[str, ...]
     thermal: ThermalResult | None = None  # with a duty cycle: its heat balance (analysis/losses/thermal.py)
+    production: EfficiencyRun | None = None  # with units: their efficiencies (analysis/losses/production.py)
     _breakdown: LossBreakdown | None = field(default=None, metadata={EXPORT: False})
 
     def summary(self) -> list[str]:
@@ -194,9 +203,9 @@ def _check(name: str, values, lo: float, hi: float) -> tuple[float, ...]:
     return out
 
 
-def progress_steps(torque_fractions=DEFAULT_TORQUE_FRACTIONS, duty_cycle=None) -> int:
+def progress_steps(torque_fractions=DEFAULT_TORQUE_FRACTIONS, duty_cycle=None, units: int = 0) -> int:
     """How many steps ``efficiency_rating`` reports to its progress callback."""
-    return 3 + len(tuple(torque_fractions)) + (duty_cycle is not None)
+    return 3 + len(tuple(torque_fractions)) + (duty_cycle is not None) + units
 
 
 def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, temperature_c: float | None = None,
@@ -207,7 +216,8 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
     """The EfficiencyResult of a prepared design's nominal unit (module docstring). ``temperature_c``:
     the oil's temperature of the figures (default [lubrication] temperature_c); ``output_speed_rpm``: the
     rated point's speed (default [capacity] rated_output_speed_rpm); the grids of the map; ``duty_cycle``:
-    adds the thermal balance (``thermal.thermal_balance``)."""
+    adds the thermal balance (``thermal.thermal_balance``). A production run's units: ``production``
+    (the API adds it)."""
     from rvbacklash.models import friction as fr
 
     fractions = _check("torque_fractions", torque_fractions, 0.0, 10.0)
@@ -268,4 +278,4 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
                             rated.output_power_w, rated.pin_film_parameter, rated.pin_friction_coefficient,
                             rated.mesh_friction_coefficient, _elements(rated), tuple(grid), by_temp, no_load, start,
                             float(start_loaded.efficiency), back, t0, lam,
-                            problem.design.elastic.friction_torque_nm, precision, assumptions, thermal, rated)
+                            problem.design.elastic.friction_torque_nm, precision, assumptions, thermal, None, rated)
