@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-from rvbacklash.results import Result
+from rvbacklash.results import KEY, Result
 
 
 @dataclass(frozen=True, repr=False)
@@ -36,7 +36,7 @@ class EfficiencyRun(Result):
     median: float
     max: float
     spec_min_efficiency: float | None
-    yield_: float | None
+    yield_: float | None = field(metadata={KEY: "yield"})
     nominal_efficiency: float
     per_unit: tuple[UnitEfficiency, ...]
 
