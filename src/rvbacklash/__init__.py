@@ -39,6 +39,7 @@ _EXPORTS = {
     "read_bench": "rvbacklash.api",
     "calibrate": "rvbacklash.api",
     "capacity": "rvbacklash.api",
+    "efficiency": "rvbacklash.api",
     "read_duty_cycle": "rvbacklash.design.duty_cycle",
     "plan_sweep": "rvbacklash.analysis.sweep",
     "load_sweep": "rvbacklash.analysis.sweep",

@@ -420,6 +420,7 @@ class SchemaOutput(str, Enum):
     transmission_error = "transmission-error"
     contact = "contact"
     capacity = "capacity"
+    efficiency = "efficiency"
     bench = "bench"
     calibrate = "calibrate"
 
@@ -428,7 +429,7 @@ class SchemaOutput(str, Enum):
 @command
 def schema(output: Optional[SchemaOutput] = typer.Option(
         None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
-                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate, capacity); its "
+                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate, capacity, efficiency); its "
                                "schema_version is in CHANGELOG.md.")
            ) -> None:
     """Print the JSON schema of the design file, or of a command's JSON output (--output)."""
