@@ -78,6 +78,25 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
                      stream=stream, error_model=error_model, save_units=save_units, life=life)
 
 
+def simulate_selected(design: DesignLike, *, select, samples: int = DEFAULT_SAMPLES, seed: int = 0,
+                      spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
+                      quantiles: Iterable[float] = (), workers: int | None = None, model: str = "elastic",
+                      progress: Callable[[int], None] | None = None, error_model: str | None = None,
+                      save_units: int = 0):
+    """A production run with random assembly and with selective assembly (``select``: a
+    ``Selection`` or the ``--select`` string, e.g. "pins=5x2um,rollers=3x2um"), the same seed and
+    units, side by side: a ``SelectionResult`` (docs/selective-assembly.md)."""
+    from rvbacklash.analysis.selection.classes import as_selection
+    from rvbacklash.analysis.selection.run import simulate_selected as _run
+
+    selection = as_selection(select)
+    if selection is None:
+        raise InputError("select", None, "allowed: a Selection or a string such as 'pins=5x2um,rollers=3x2um'")
+    return _run(prepare(design), selection, samples=samples, seed=seed, spec_arcmin=spec_arcmin, specs=specs,
+                quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
+                error_model=error_model, save_units=save_units)
+
+
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
                  preload: float | None = None, life_h: float | None = None,
                  rated_torque_nm: float | None = None) -> dict[str, float]:
