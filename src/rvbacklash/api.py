@@ -97,6 +97,32 @@ def simulate_selected(design: DesignLike, *, select, samples: int = DEFAULT_SAMP
                 error_model=error_model, save_units=save_units)
 
 
+def generate_batch(design: DesignLike, *, units: int, seed: int = 0):
+    """A batch of ``units`` measured units (pins not chosen) and their measured pins and roller sets,
+    drawn with ``seed``: (units, parts) for ``assemble`` (docs/selective-assembly.md)."""
+    from rvbacklash.analysis.selection.assembly import generate_batch as _generate
+    from rvbacklash.sampling.seeds import check_seed
+
+    return _generate(prepare(design), units, check_seed(seed))
+
+
+def assemble(design: DesignLike, *, units, parts, select="pins=5x2um,rollers=3x2um",
+             spec_lost_motion_arcmin: float | None = None):
+    """The assembly sheet of a measured batch: ``units`` (a measured-unit file or MeasuredUnit
+    records), ``parts`` (a CSV of measured parts or Part records), ``select`` (a Selection or the
+    ``--select`` string). Returns (AssemblySheet, the built units as assembled)."""
+    from rvbacklash.analysis.selection.assembly import assemble as _assemble, read_parts
+    from rvbacklash.analysis.selection.classes import as_selection
+    from rvbacklash.design.measured import load_units
+
+    problem = prepare(design)
+    if isinstance(units, (str, Path)):
+        units = load_units(units, problem.design)
+    if isinstance(parts, (str, Path)):
+        parts = read_parts(parts)
+    return _assemble(problem, list(units), list(parts), as_selection(select), spec_lost_motion_arcmin)
+
+
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
                  preload: float | None = None, life_h: float | None = None,
                  rated_torque_nm: float | None = None) -> dict[str, float]:

@@ -58,11 +58,14 @@ def pair_distances(play_arcmin: np.ndarray, roller_mean_um: np.ndarray, crank_se
                    play_window_arcmin: tuple[float, float], target_arcmin: float) -> np.ndarray:
     """(units, pin classes, roller classes): each pair's distance to the unit's windows [arcmin]
     (``rules.window_distance`` of the pin rule plus that of the roller rule); ``play_arcmin`` (units,
-    pin classes): the predicted play with each pin class."""
+    pin classes): the predicted play with each pin class; ``roller_mean_um``: each roller class's mean
+    clearance (roller classes,) or each unit's with each roller class (units, roller classes)."""
     p = np.asarray(play_arcmin, float)[:, :, None]
     lo, hi = play_window_arcmin
     d_pin = np.maximum(p - hi, 0.0) + np.maximum(lo - p, 0.0)
-    crank = np.maximum(p, 0.0) + crank_sens_arcmin_per_um * np.asarray(roller_mean_um, float)[None, None, :]
+    m = np.asarray(roller_mean_um, float)
+    m = m[None, None, :] if m.ndim == 1 else m[:, None, :]  # one per class, or per unit and class
+    crank = np.maximum(p, 0.0) + crank_sens_arcmin_per_um * m
     return d_pin + np.maximum(crank - target_arcmin, 0.0)
 
 
