@@ -146,3 +146,23 @@ def test_selection_needs_a_spec_and_the_elastic_model(rv80e_problem):
         simulate_selected(rv80e_problem, sel, samples=10)
     with pytest.raises(InputError, match="elastic"):
         simulate_selected(rv80e_problem, sel, samples=10, specs=SPEC, model="contact")
+
+
+def test_selection_json_validates_against_the_simulate_schema(rv80e_problem):
+    import json
+
+    import jsonschema
+
+    from rvbacklash.report.files import render_json
+    from rvbacklash.report.schemas import output_schema
+
+    r = simulate_selected(rv80e_problem, parse_selection("pins=3x2um,rollers=2x2um"), samples=200, seed=1,
+                          specs={"lost_motion": 1.0, "rigidity": 280.0}, workers=1)
+    data = json.loads(render_json(r.to_dict()))
+    assert data["selected_run"]["outputs"]["lost_motion"]["yield"]["total"] == 200
+    assert [y["output"] for y in data["yields"]] == ["lost_motion", "rigidity", "joint"]
+    schema = output_schema("simulate")
+    jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
+    data["yields"][0]["moved"] = 1
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)

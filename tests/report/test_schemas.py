@@ -33,6 +33,8 @@ def _outputs():
         "transmission-error": rb.transmission_error(p, positions=400),
         "contact": rb.contact(p),
         "capacity": rb.capacity(p, angles=6),
+        "assemble": rb.assemble(p, units=rb.generate_batch(p, units=3, seed=1)[0],
+                                parts=rb.generate_batch(p, units=3, seed=1)[1], spec_lost_motion_arcmin=1.0)[0],
         **_bench_outputs(p),
     }
 
@@ -61,7 +63,7 @@ def test_every_listed_output_has_a_schema():
     from rvbacklash.cli.commands import SchemaOutput
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
-                            "transmission-error", "contact", "bench", "calibrate", "capacity"}
+                            "transmission-error", "contact", "bench", "calibrate", "capacity", "assemble"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 

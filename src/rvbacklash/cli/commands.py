@@ -471,6 +471,7 @@ class SchemaOutput(str, Enum):
     sweep = "sweep"
     transmission_error = "transmission-error"
     contact = "contact"
+    assemble = "assemble"
     capacity = "capacity"
     bench = "bench"
     calibrate = "calibrate"

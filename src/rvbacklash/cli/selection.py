@@ -83,8 +83,11 @@ def assemble(
         return
     if spec_lost_motion_arcmin is not None and not spec_lost_motion_arcmin > 0:
         raise InputError("--spec-lost-motion-arcmin", spec_lost_motion_arcmin, "allowed: a finite number > 0")
+    from rvbacklash.analysis.selection.classes import parse_selection
+
+    selection = parse_selection(select, "--select")
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, assembled=assembled)
-    sheet, built = api.assemble(design, units=units, parts=parts, select=select,
+    sheet, built = api.assemble(design, units=units, parts=parts, select=selection,
                                 spec_lost_motion_arcmin=spec_lost_motion_arcmin)
     data, rows = sheet.to_dict(), sheet.rows()
 

@@ -40,7 +40,6 @@ from rvbacklash.problem import Problem
 from rvbacklash.results import Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
-SCHEMA_VERSION = 1
 PART_KINDS = ("pin", "roller")
 PART_COLUMNS = ("serial", "kind", "diameter_um")
 LIMIT_UM = 100.0  # a diameter off by more than this is not a part of this batch
@@ -77,7 +76,6 @@ class AssemblySheet(Result):
     """The assembly sheet of a batch (module docstring) with the stocks left and the greedy rule's
     count beside the optimal assignment's."""
 
-    schema_version: int
     design_name: str
     selection: str
     spec_lost_motion_arcmin: float | None
@@ -289,7 +287,7 @@ def assemble(problem: Problem, units: list[MeasuredUnit], parts: list[Part], sel
         rows.append(SheetRow(u, True, int(p), int(q), ";".join(pins[i].serial for i in take), rollers[roller].serial,
                              float(play[u, p]), cl, lm, float(fig[BACKLASH]), float(fig[RIGIDITY]), prob, reason))
     passing = None if spec_lost_motion_arcmin is None else sum(1 for r in rows if r.built and r.pass_probability >= 0.5)
-    sheet = AssemblySheet(SCHEMA_VERSION, problem.name, str(selection), spec_lost_motion_arcmin, n_u, best.units_built,
+    sheet = AssemblySheet(problem.name, str(selection), spec_lost_motion_arcmin, n_u, best.units_built,
                           best.units_in_window, greedy.units_in_window, passing, best.pin_sets_left,
                           best.roller_sets_left, sum(len(v) for v in stock_p.values()), tuple(rows))
     return sheet, assembled

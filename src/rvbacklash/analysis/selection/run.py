@@ -13,7 +13,7 @@ assembly, in its simplest form: every class of the law's mass).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Mapping
 
 import numpy as np
@@ -24,9 +24,7 @@ from rvbacklash.analysis.simulation import SimulationResult, simulate
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.errors import InputError
 from rvbacklash.problem import Problem
-from rvbacklash.results import EXPORT, Result
-
-SCHEMA_VERSION = 1
+from rvbacklash.results import Result
 
 
 @dataclass(frozen=True, repr=False)
@@ -67,7 +65,6 @@ class YieldPair(Result):
 class SelectionResult(Result):
     """A production run with and without selective assembly (module docstring)."""
 
-    schema_version: int
     design_name: str
     model: str
     selection: Selection
@@ -82,14 +79,16 @@ class SelectionResult(Result):
     roller_surplus_fraction: float
     elapsed_random_s: float
     elapsed_selected_s: float
-    random: SimulationResult = field(metadata={EXPORT: False})
-    selected: SimulationResult = field(metadata={EXPORT: False})
+    random_run: SimulationResult  # the same units assembled at random
+    selected_run: SimulationResult  # and selected (its saved units: the selected ones)
 
-    def to_dict(self) -> dict:
-        d = super().to_dict()
-        d["selection"] = str(self.selection)
-        d["random_run"], d["selected_run"] = self.random.to_dict(), self.selected.to_dict()
-        return d
+    @property
+    def random(self) -> SimulationResult:
+        return self.random_run
+
+    @property
+    def selected(self) -> SimulationResult:
+        return self.selected_run
 
     def rows(self) -> list[dict]:
         out = [{"table": "yield", "output": y.output, "spec": y.spec, "unit": y.unit,
@@ -194,7 +193,7 @@ def selection_result(problem: Problem, selection: Selection, random: SimulationR
         yields.append(YieldPair(name, float(o.spec_limit), o.unit, random.outputs[name].yield_, o.yield_))
     if selected.joint_yield is not None:
         yields.append(YieldPair("joint", math.nan, "", random.joint_yield, selected.joint_yield))
-    return SelectionResult(SCHEMA_VERSION, problem.name, selected.model, selection, int(selected.seed),
+    return SelectionResult(problem.name, selected.model, selection, int(selected.seed),
                            int(min(random.samples_done or 0, selected.samples_done or 0)),
                            random.partial or selected.partial, tuple(yields), pins + rollers, rp, sp, rr, sr,
                            random.elapsed_s, selected.elapsed_s, random, selected)
