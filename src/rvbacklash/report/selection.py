@@ -54,3 +54,39 @@ def print_selection(r: "SelectionResult", console: Console) -> None:
     console.print(t)
     console.print(f"pins: {r.pin_sets_per_unit:.3f} sets bought per unit built (surplus {r.pin_surplus_fraction:.1%}); "
                   f"rollers: {r.roller_sets_per_unit:.3f} (surplus {r.roller_surplus_fraction:.1%})")
+
+
+def class_sweep_svg(sweep) -> str:
+    """Yield versus the number of pin classes, one line per class width (and noise), random assembly
+    as a dashed line; each point's 95 % interval as a bar; the pins' surplus on a second panel."""
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4))
+    keys = sorted({(p.pin_width_um, p.noise_um) for p in sweep.points})
+    for w, s in keys:
+        pts = sorted((p for p in sweep.points if (p.pin_width_um, p.noise_um) == (w, s)), key=lambda p: p.pin_classes)
+        x = [p.pin_classes for p in pts]
+        y = [p.yield_.fraction * 100 for p in pts]
+        err = [[(p.yield_.fraction - p.yield_.ci95_low) * 100 for p in pts],
+               [(p.yield_.ci95_high - p.yield_.fraction) * 100 for p in pts]]
+        label = f"pin classes {w:g} µm wide" + (f", noise {s:g} µm" if s else "")
+        ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=label)
+        bx.plot(x, [p.pin_surplus_fraction * 100 for p in pts], marker="o", label=label)
+    ax.axhline(sweep.random_yield.fraction * 100, color="k", ls="--", label="random assembly")
+    ax.set_xlabel("pin diameter classes")
+    ax.set_ylabel(f"yield {sweep.output} ≤ {sweep.spec:g} [%]")
+    ax.set_title(f"{sweep.design_name}: yield with rollers {sweep.rollers} ({sweep.samples:,} units)")
+    ax.legend(fontsize=8)
+    bx.set_xlabel("pin diameter classes")
+    bx.set_ylabel("pins bought and left over [%]")
+    bx.set_title("pin surplus (unlimited supply)")
+    fig.tight_layout()
+    buf = io.StringIO()
+    fig.savefig(buf, format="svg")
+    plt.close(fig)
+    return buf.getvalue()

@@ -13,7 +13,7 @@ assembly, in its simplest form: every class of the law's mass).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
 import numpy as np
@@ -24,7 +24,7 @@ from rvbacklash.analysis.simulation import SimulationResult, simulate
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.errors import InputError
 from rvbacklash.problem import Problem
-from rvbacklash.results import Result
+from rvbacklash.results import KEY, Result
 
 
 @dataclass(frozen=True, repr=False)
@@ -197,3 +197,64 @@ def selection_result(problem: Problem, selection: Selection, random: SimulationR
                            int(min(random.samples_done or 0, selected.samples_done or 0)),
                            random.partial or selected.partial, tuple(yields), pins + rollers, rp, sp, rr, sr,
                            random.elapsed_s, selected.elapsed_s, random, selected)
+
+
+@dataclass(frozen=True, repr=False)
+class ClassSweepPoint(Result):
+    """One selection of a class sweep: its pin classes, its yield of the first spec and its surplus."""
+
+    pin_classes: int
+    pin_width_um: float
+    noise_um: float
+    yield_: Proportion = field(metadata={KEY: "yield"})
+    pin_surplus_fraction: float
+
+
+@dataclass(frozen=True, repr=False)
+class ClassSweep(Result):
+    """Yield of the first spec versus the number of pin classes, their width and the measurement's
+    uncertainty (the rollers' classes fixed), beside random assembly: the same units throughout."""
+
+    design_name: str
+    output: str
+    spec: float
+    samples: int
+    seed: int
+    rollers: ClassSet
+    random_yield: Proportion
+    points: tuple[ClassSweepPoint, ...]
+
+    def rows(self) -> list[dict]:
+        return [{"pin_classes": p.pin_classes, "pin_width_um": p.pin_width_um, "noise_um": p.noise_um,
+                 "yield": p.yield_.fraction, "ci95_low": p.yield_.ci95_low, "ci95_high": p.yield_.ci95_high,
+                 "pin_surplus_fraction": p.pin_surplus_fraction} for p in self.points]
+
+
+def class_sweep(problem: Problem, *, counts=(1, 3, 5, 7, 9), widths=(1.0, 2.0, 4.0), noises=(0.0,),
+                rollers: ClassSet = ClassSet(3, 2.0), samples: int = 4000, seed: int = 0,
+                specs: Mapping[str, float] | None = None, workers: int | None = None) -> ClassSweep:
+    """The yield of ``specs``' first output for every (pin classes, width, noise) (module docstring:
+    the same seed, the same units), beside random assembly."""
+    from rvbacklash.analysis.selection.classes import make_selection
+
+    specs = dict(specs or {"lost_motion": 1.0})
+    name = next(iter(specs))
+    base = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model="elastic")
+    points = []
+    for noise in noises:
+        for width in widths:
+            for k in counts:
+                sel = make_selection(pins=ClassSet(int(k), float(width)), rollers=rollers, noise_um=float(noise))
+                holder: list = []
+
+                def keep(source, wrap=selected_source(sel)):
+                    holder.append(wrap(source))
+                    return holder[-1]
+
+                run = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model="elastic",
+                               wrap=keep)
+                r = selection_result(problem, sel, base, run, holder[0])
+                points.append(ClassSweepPoint(int(k), float(width), float(noise), run.outputs[name].yield_,
+                                              r.pin_surplus_fraction))
+    return ClassSweep(problem.name, name, float(specs[name]), int(samples), int(seed), rollers,
+                      base.outputs[name].yield_, tuple(points))
