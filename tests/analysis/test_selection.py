@@ -166,3 +166,16 @@ def test_selection_json_validates_against_the_simulate_schema(rv80e_problem):
     data["yields"][0]["moved"] = 1
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
+
+
+def test_class_sweep_one_class_is_random_and_the_plot_draws(rv80e_problem):
+    from rvbacklash.analysis.selection.run import class_sweep
+    from rvbacklash.report.selection import class_sweep_svg
+
+    s = class_sweep(rv80e_problem, counts=(1, 5), widths=(2.0,), rollers=ClassSet(1, 2.0), samples=300, seed=3,
+                    workers=1)
+    one = next(p for p in s.points if p.pin_classes == 1)
+    assert one.yield_ == s.random_yield and one.pin_surplus_fraction == 0.0
+    assert len(s.rows()) == 2 and s.to_dict()["points"][0]["yield"]["total"] == 300
+    svg = class_sweep_svg(s)
+    assert svg.lstrip().startswith("<?xml") and "pin diameter classes" in svg
