@@ -79,6 +79,51 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
                      stream=stream, error_model=error_model, save_units=save_units, life=life)
 
 
+def simulate_selected(design: DesignLike, *, select, samples: int = DEFAULT_SAMPLES, seed: int = 0,
+                      spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
+                      quantiles: Iterable[float] = (), workers: int | None = None, model: str = "elastic",
+                      progress: Callable[[int], None] | None = None, error_model: str | None = None,
+                      save_units: int = 0):
+    """A production run with random assembly and with selective assembly (``select``: a
+    ``Selection`` or the ``--select`` string, e.g. "pins=5x2um,rollers=3x2um"), the same seed and
+    units, side by side: a ``SelectionResult`` (docs/selective-assembly.md)."""
+    from rvbacklash.analysis.selection.classes import as_selection
+    from rvbacklash.analysis.selection.run import simulate_selected as _run
+
+    selection = as_selection(select)
+    if selection is None:
+        raise InputError("select", None, "allowed: a Selection or a string such as 'pins=5x2um,rollers=3x2um'")
+    return _run(prepare(design), selection, samples=samples, seed=seed, spec_arcmin=spec_arcmin, specs=specs,
+                quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
+                error_model=error_model, save_units=save_units)
+
+
+def generate_batch(design: DesignLike, *, units: int, seed: int = 0):
+    """A batch of ``units`` measured units (pins not chosen) and their measured pins and roller sets,
+    drawn with ``seed``: (units, parts) for ``assemble`` (docs/selective-assembly.md)."""
+    from rvbacklash.analysis.selection.assembly import generate_batch as _generate
+    from rvbacklash.sampling.seeds import check_seed
+
+    return _generate(prepare(design), units, check_seed(seed))
+
+
+def assemble(design: DesignLike, *, units, parts, select="pins=5x2um,rollers=3x2um",
+             spec_lost_motion_arcmin: float | None = None):
+    """The assembly sheet of a measured batch: ``units`` (a measured-unit file or MeasuredUnit
+    records), ``parts`` (a CSV of measured parts or Part records), ``select`` (a Selection or the
+    ``--select`` string). Returns (AssemblySheet, the built units as assembled)."""
+    from rvbacklash.analysis.selection.assembly import assemble as _assemble, read_parts
+    from rvbacklash.analysis.selection.classes import as_selection
+    from rvbacklash.design.measured import load_units
+
+    problem = prepare(design)
+    if isinstance(units, (str, Path)):
+        units = load_units(units, problem.design)
+    if isinstance(parts, (str, Path)):
+        parts = read_parts(parts)
+    return _assemble(problem, list(units), list(parts), as_selection(select), spec_lost_motion_arcmin)
+
+
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
                  preload: float | None = None, life_h: float | None = None,
                  rated_torque_nm: float | None = None) -> dict[str, float]:

@@ -34,6 +34,8 @@ def _outputs():
         "contact": rb.contact(p),
         "capacity": rb.capacity(p, angles=6),
         "efficiency": _efficiency(p),
+        "assemble": rb.assemble(p, units=rb.generate_batch(p, units=3, seed=1)[0],
+                                parts=rb.generate_batch(p, units=3, seed=1)[1], spec_lost_motion_arcmin=1.0)[0],
         **_bench_outputs(p),
     }
 
@@ -73,7 +75,7 @@ def test_every_listed_output_has_a_schema():
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
                             "transmission-error", "contact", "bench", "calibrate", "capacity",
-                            "efficiency"}
+                            "efficiency", "assemble"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 

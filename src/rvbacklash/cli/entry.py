@@ -21,6 +21,7 @@ import rvbacklash.cli.bench  # noqa: F401  (bench, calibrate)
 import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 import rvbacklash.cli.transmission  # noqa: F401  (transmission-error)
 import rvbacklash.cli.workbench  # noqa: F401  (app: the workbench in the browser)
+import rvbacklash.cli.selection  # noqa: F401  (assemble)
 from rvbacklash.cli.app import app
 from rvbacklash.interrupt import EXIT_CODE, stop_was_requested
 

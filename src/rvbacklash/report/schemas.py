@@ -30,6 +30,8 @@ from rvbacklash.analysis.losses import EfficiencyResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
+from rvbacklash.analysis.selection.assembly import AssemblySheet
+from rvbacklash.analysis.selection.run import SelectionResult
 from rvbacklash.analysis.simulation import SimulationResult
 from rvbacklash.analysis.stackup import FactorResult, StageResult, TotalResult
 from rvbacklash.analysis.sweep import SweepResult
@@ -123,9 +125,10 @@ def _contact(g: _Generator) -> dict:
 
 # command -> (the schema of its result, what the JSON is)
 OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
-    "simulate": (_result(SimulationResult),
+    "simulate": (lambda g: {"anyOf": [g.dataclass_schema(SimulationResult), g.dataclass_schema(SelectionResult)]},
                  "rvbacklash simulate --json: a Monte-Carlo run (or the exact distribution); figures under "
-                 "outputs.<quantity>"),
+                 "outputs.<quantity>; with --select, the run with random and with selective assembly side by side "
+                 "(random_run, selected_run, yields, classes; issue 39)"),
     "analyze": (_stackup, "rvbacklash analyze --json: the linear stack-up"),
     "hysteresis": (_result(HysteresisResult),
                    "rvbacklash hysteresis --json: the test bench's hysteresis loop of one unit"),
@@ -151,6 +154,8 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
                    "rvbacklash efficiency --json: the nominal unit's losses per element at the rated point, the "
                    "efficiency map, no-load running, starting and back-driving torques, a duty cycle's thermal "
                    "balance with lost motion and backlash at its temperature (issue 40)"),
+    "assemble": (_result(AssemblySheet),
+                 "rvbacklash assemble --json: the assembly sheet of a measured batch, one row per unit (issue 39)"),
     "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
                           "exact cycloid-pin geometry"),
 }
