@@ -420,6 +420,7 @@ class SchemaOutput(str, Enum):
     transmission_error = "transmission-error"
     contact = "contact"
     capacity = "capacity"
+    service_life = "service-life"
     bench = "bench"
     calibrate = "calibrate"
 

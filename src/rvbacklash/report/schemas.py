@@ -26,6 +26,7 @@ from rvbacklash.analysis.allocation import AllocationResult
 from rvbacklash.analysis.bench import BenchResult
 from rvbacklash.analysis.calibration import CalibrationResult
 from rvbacklash.analysis.capacity import CapacityResult
+from rvbacklash.analysis.service_life.results import ServiceLifeResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
@@ -146,6 +147,10 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
                  "rvbacklash capacity --json: the nominal unit's capacity and life: each bearing's load, rating and "
                  "L10, the reducer's life, the derived rated torque, momentary maximum and acceleration torques, the "
                  "main bearings, the loads over a revolution (issue 37)"),
+    "service-life": (_result(ServiceLifeResult),
+                     "rvbacklash service-life --json: the nominal unit's lost motion, backlash and rigidity over the "
+                     "hours of a duty cycle, its contacts' wear rates and worn flank, the production run's yield and "
+                     "accuracy life (issue 38)"),
     "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
                           "exact cycloid-pin geometry"),
 }

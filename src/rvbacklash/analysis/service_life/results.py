@@ -98,7 +98,6 @@ class ServiceLifeResult(Result):
     flank_profile: FlankProfile
     production: ProductionLife | None
     partial: bool = False
-    schema_version: str = "1.0"
 
     def rows(self) -> list[dict]:
         return [p.to_dict() for p in self.points]
