@@ -18,7 +18,7 @@ import numpy as np
 
 from rvbacklash.analysis.service_life.results import ProductionLife
 from rvbacklash.analysis.service_life.stepping import Trajectory
-from rvbacklash.analysis.service_life.worn import worn_gaps_um
+from rvbacklash.analysis.service_life.worn import worn_gaps_um, worn_model
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.errors import InputError
 from rvbacklash.interrupt import mark_progress, stop_requested
@@ -60,7 +60,10 @@ def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples:
     if not (math.isfinite(spec_lost_motion_arcmin) and spec_lost_motion_arcmin > 0.0):
         raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0")
     model = model or elastic_model(problem)
-    design = loop_design(model, design_pin_laws(model))
+    designs = []  # each time's loop design: the worn flank's curvature in the pins' laws
+    for wear in trajectory.wear:
+        m = worn_model(problem, model, wear)
+        designs.append(loop_design(m, design_pin_laws(m)) if m is not model or not designs else designs[0])
     geo = trajectory.geometry
     times = np.array(trajectory.hours)
     lm = np.empty((times.size, samples))
@@ -78,7 +81,7 @@ def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples:
                 worn = chunk._replace(gap_um=np.ascontiguousarray(chunk.gap_um + worn_gaps_um(wear, geo,
                                                                                                 chunk.chi_rad)),
                                       crank_clearance_um=chunk.crank_clearance_um + wear.clearance_um)
-                evaluate_units(worn, design, out)
+                evaluate_units(worn, designs[k], out)
                 lm[k, start:start + chunk.chi_rad.size] = out[0]
             done = start + chunk.chi_rad.size
             mark_progress()

@@ -25,7 +25,7 @@ from rvbacklash.analysis.capacity.revolution import load_geometry, needle_roller
 from rvbacklash.analysis.service_life.rates import (WearGeometry, WearIncrement, wear_geometry,
                                                     wear_per_revolution)
 from rvbacklash.analysis.service_life.results import LifePoint
-from rvbacklash.analysis.service_life.worn import WornAngles, worn_unit
+from rvbacklash.analysis.service_life.worn import WornAngles, worn_model, worn_unit
 from rvbacklash.design.duty_cycle import DutyCycle
 from rvbacklash.design.wear import WearInputs
 from rvbacklash.errors import InputError
@@ -106,7 +106,7 @@ def nominal_trajectory(problem: Problem, cycle: DutyCycle, hours, *, angles: int
     model = model or elastic_model(problem)
     geo = wear_geometry(problem, model, wear)
     inputs = geo.inputs
-    load_geo, needles = load_geometry(problem, model), needle_rollers(model)
+    needles = needle_rollers(model)
     inv, clr = other_stages_nominal(problem)
     r = realization if realization is not None else nominal_realization(problem)
     c_ref = reference_clearance_um(problem)
@@ -119,8 +119,8 @@ def nominal_trajectory(problem: Problem, cycle: DutyCycle, hours, *, angles: int
     with stop_requested() as stop:
         while True:
             worn = WornAngles(problem, model, r, inv, clr, state, geo, angles)
-            figures = PreparedUnit(model, worn_unit(problem, r, inv, clr, state, geo)).figures()
-            rate, stress = hourly_wear(worn, cycle, geo, load_geo, needles)
+            figures = PreparedUnit(worn.model, worn_unit(problem, r, inv, clr, state, geo)).figures()
+            rate, stress = hourly_wear(worn, cycle, geo, load_geometry(problem, worn.model), needles)
             if initial is None:
                 initial = rate
             times.append(t)

@@ -8,11 +8,15 @@ The part of a disc's flank wear that is the same at every place of the tooth IS 
 modification of that depth (the flank moved inwards along its normal): it is given to the contact
 model as one (``Realization.equidistance_um``), so that a uniform wear w and a design with w more
 of equidistance modification are the same unit, to the bit (tests); the rest, place by place, is
-added to each pin's gap at its phase.
+added to each pin's gap at its phase. The flank's radius of curvature moves with it (an offset
+curve's radius, ``compliance.flank_radius_mm``): the worn unit's chain has the generating radius
+r_rp + (equidistance modification + the discs' mean uniform wear) (``worn_model``), the design's own
+expression, so that the uniform wear w on a design is the design with w more of modification.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -29,6 +33,17 @@ def pin_phases_rad(chi_rad: float, discs: int, zp: int) -> np.ndarray:
     psi = 2.0 * math.pi * np.arange(zp) / zp
     chi_d = chi_rad + 2.0 * math.pi * np.arange(discs) / discs
     return psi[None, :] - chi_d[:, None]
+
+
+def worn_model(problem: Problem, model: ElasticModel, wear: WearIncrement) -> ElasticModel:
+    """The elastic model of the worn flank (module docstring): its chain's generating radius
+    r_rp + (dr_rp + mean uniform wear) 1e-3 [mm] (models/elastic/chain.py's expression)."""
+    uniform = float(wear.flank_um.min(axis=1).mean())
+    if uniform == 0.0:
+        return model
+    s2 = problem.design.second_stage
+    radius = model.geometry.rrp_mm + (s2.equidistance_modification_um + uniform) * 1e-3
+    return dataclasses.replace(model, chain=model.chain._replace(generating_radius_mm=radius))
 
 
 def worn_unit(problem: Problem, realization: Realization, involute_backlash_rad: float, crank_clearance_um: float,
@@ -58,6 +73,7 @@ class WornAngles(CrankAngles):
 
     def __init__(self, problem: Problem, model: ElasticModel, realization: Realization, involute_backlash_rad: float,
                  crank_clearance_um: float, wear: WearIncrement, geo: WearGeometry, angles: int):
+        model = worn_model(problem, model, wear)
         self.problem, self.model = problem, model
         self.crank_clearance_um = float(crank_clearance_um + wear.clearance_um)
         g = model.geometry
