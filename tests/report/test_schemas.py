@@ -61,7 +61,8 @@ def test_every_listed_output_has_a_schema():
     from rvbacklash.cli.commands import SchemaOutput
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
-                            "transmission-error", "contact", "bench", "calibrate", "capacity"}
+                            "transmission-error", "contact", "bench", "calibrate", "capacity",
+                            "service-life"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 
