@@ -34,6 +34,7 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.scenarios import Comparison, Scenario
     from rvbacklash.analysis.simulation import SimulationResult
     from rvbacklash.analysis.sensitivity_global import SensitivityResult
+    from rvbacklash.analysis.service_life.calibration import WearCalibration
     from rvbacklash.analysis.service_life.results import ServiceLifeResult
 
 DesignLike = Union[Design, str, Path, Problem]
@@ -382,6 +383,19 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
                          angles=DEFAULT_ANGLES if angles is None else angles,
                          step_fraction=DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
                          progress=progress)
+
+
+def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]],
+                   sigma_arcmin: float = 0.01) -> "WearCalibration":
+    """The wear coefficients' common scale (k = s k_design) fitted, with a 95 % interval, to one unit's lost
+    motion measured at 0 h and after some hours of ``duty_cycle`` (``measurements``: (hours, lost motion
+    [arcmin]) pairs, e.g. the ``bench`` command's readings of its loops; ``sigma_arcmin``: one reading's
+    repeatability). docs/service-life.md, "Calibration"."""
+    from rvbacklash.analysis.service_life.calibration import calibrate_wear as _calibrate
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    return _calibrate(prepare(design), read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
+                      sigma_arcmin=sigma_arcmin)
 
 
 def example_duty_cycle(path: str | Path) -> Path:

@@ -162,3 +162,25 @@ def test_bad_wear_inputs_are_refused_in_one_line(rv80e_toml, tmp_path):
     assert "wear.flank_wear_coefficient" in text and "\n" not in text
     with pytest.raises(InputError, match="hours"):
         nominal_trajectory(api.prepare("rv80e"), CYCLE, [-5])
+
+
+def test_calibration_recovers_k_from_two_synthetic_measurements(rv80e):
+    """A unit 'measured' at 0 h and 1000 h of the robot-joint cycle: the model's own lost motion with
+    the coefficients 1.7 times the design's, plus reading noise (sigma 0.01 arcmin, seeded): the fitted
+    scale's 95 % interval holds 1.7."""
+    from rvbacklash.analysis.service_life.calibration import calibrate_wear, scaled_inputs
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    problem, model, _, _ = rv80e
+    cycle = read_duty_cycle(api.example_duty_cycle("robot-joint"))
+    true = 1.7
+    tr = nominal_trajectory(problem, cycle, [0, 1000], wear=scaled_inputs(problem.design.wear, true), model=model)
+    rng = np.random.default_rng(7)
+    lm0, lm1 = (p.lost_motion_arcmin + rng.normal(0.0, 0.01) for p in (tr.points[0], tr.points[-1]))
+    r = calibrate_wear(problem, cycle, [(0, lm0), (1000, lm1)], sigma_arcmin=0.01)
+    assert r.scale_ci95_low < true < r.scale_ci95_high
+    assert r.scale == pytest.approx(true, rel=0.1)
+    assert r.scale_ci95_high / r.scale_ci95_low < 1.5  # 1000 h of wear bound it
+    assert r.k_flank_mm3_per_nm == pytest.approx(r.scale * 1.4567e-9, rel=1e-3)
+    with pytest.raises(InputError, match="measurements"):
+        calibrate_wear(problem, cycle, [(1000, 2.0)])
