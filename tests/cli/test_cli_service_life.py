@@ -71,3 +71,41 @@ def test_a_stop_keeps_the_steps_done_marked_partial():
     r = box["r"]
     assert r.partial and r.steps == 0 and r.trajectory[0].hours == 0.0
     assert r.to_dict()["partial"] is True
+
+
+def test_ctrl_c_in_service_life_exits_130_with_the_steps_done(tmp_path):
+    """Ctrl-C once the stepping has finished steps: exit 130, the JSON written and marked partial."""
+    import os
+    import pty
+    import re
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "s.json"
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "rvbacklash", "service-life", "rv80e", "--duty-cycle", "robot-joint",
+                             "--hours", "0,20000", "-n", "0", "--step-fraction", "0.02", "--json", str(out)],
+                            stdin=slave, stdout=slave, stderr=slave, cwd=tmp_path, env={**os.environ, "COLUMNS": "120"})
+    os.close(slave)
+    seen, sent = b"", False
+    deadline = time.monotonic() + 900  # a guard: an empty numba cache on a loaded machine compiles for minutes
+    while time.monotonic() < deadline:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        seen += chunk
+        if not sent and re.search(rb"service life\S*\s.*?\b[1-9][0-9]*/1000", seen):
+            proc.send_signal(signal.SIGINT)
+            sent = True
+    proc.wait(timeout=120)
+    os.close(master)
+    tty = seen.decode(errors="replace")
+    assert sent, tty[-2000:]
+    assert proc.returncode == 130 and "Traceback" not in tty, tty[-2000:]
+    data = json.loads(out.read_text())
+    assert data["partial"] is True and 0 < data["steps"] and data["trajectory"][-1]["hours"] < 20000

@@ -44,7 +44,7 @@ def service_life_figure(result):
     prof = result.flank_profile
     for d, w in enumerate(prof.wear_um):
         cx.plot(prof.phase_deg, w, lw=1.2, label=f"disc {d + 1}")
-    cx.set_xlabel("place on the tooth: phase of the meeting pin [deg] (0 root, 180 tip)")
+    cx.set_xlabel("phase of the meeting pin [deg] (0 root, 180 tip)")
     cx.set_ylabel("flank wear depth [um]")
     cx.set_xlim(0, 360)
     cx.set_title(f"worn flank after {prof.hours:g} h", fontsize=9)
