@@ -184,3 +184,20 @@ def test_calibration_recovers_k_from_two_synthetic_measurements(rv80e):
     assert r.k_flank_mm3_per_nm == pytest.approx(r.scale * 1.4567e-9, rel=1e-3)
     with pytest.raises(InputError, match="measurements"):
         calibrate_wear(problem, cycle, [(1000, 2.0)])
+
+
+def test_the_production_run_gaps_are_the_worn_unit_gaps(rv80e):
+    """The production run's wear on a unit's gaps (vectorised over units) is the worn unit's, pin by pin."""
+    from rvbacklash.analysis.service_life.rates import flank_wear_at, pin_wear_at
+    from rvbacklash.analysis.service_life.worn import pin_phases_rad, worn_gaps_um
+
+    problem, model, _, _ = rv80e
+    tr = nominal_trajectory(problem, CYCLE, [0, 300], model=model, step_fraction=0.5)
+    geo, wear = tr.geometry, tr.wear[-1]
+    chi = np.array([0.01, 0.05, 0.13])
+    grown = worn_gaps_um(wear, geo, chi)
+    for i, c in enumerate(chi):
+        ph = pin_phases_rad(float(c), geo.discs, geo.zp)
+        assert np.allclose(grown[i], flank_wear_at(wear.flank_um, geo, ph) + pin_wear_at(wear, geo, ph),
+                           rtol=1e-14, atol=1e-15)
+    assert grown.max() > 0.1

@@ -14,6 +14,7 @@ from rvbacklash.analysis.service_life.results import ContactWearRate, FlankProfi
 from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION, check_hours, \
     nominal_trajectory
 from rvbacklash.design.duty_cycle import DutyCycle
+from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model
 from rvbacklash.problem import Problem
 
@@ -51,6 +52,11 @@ def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0,
     """The ServiceLifeResult of a design under a duty cycle at ``hours`` (module docstring);
     ``samples`` units of the production run (0: none). ``progress(stage, share)``."""
     targets = check_hours(hours)
+    if not (isinstance(spec_lost_motion_arcmin, (int, float)) and math.isfinite(spec_lost_motion_arcmin)
+            and spec_lost_motion_arcmin > 0.0):
+        raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0 [arcmin]")
+    if not (isinstance(samples, int) and samples >= 0):
+        raise InputError("samples", samples, "allowed: 0 (the nominal unit only) or a number of units >= 1")
     model = elastic_model(problem)
     tr = nominal_trajectory(problem, cycle, targets, angles=angles, step_fraction=step_fraction, model=model,
                             progress=(lambda s: progress("nominal", s)) if progress else None)

@@ -60,11 +60,13 @@ def worn_unit(problem: Problem, realization: Realization, involute_backlash_rad:
 def worn_gaps_um(wear: WearIncrement, geo: WearGeometry, chi_rad: np.ndarray) -> np.ndarray:
     """(n, discs, z_p): the gap growth of n units at their crank angles from the wear (all of it
     added to the gaps: the production run's units)."""
-    out = np.empty((chi_rad.size, geo.discs, geo.zp))
-    for i, chi in enumerate(chi_rad):
-        phases = pin_phases_rad(float(chi), geo.discs, geo.zp)
-        out[i] = flank_wear_at(wear.flank_um, geo, phases) + pin_wear_at(wear, geo, phases)
-    return out
+    n = chi_rad.size
+    psi = 2.0 * math.pi * np.arange(geo.zp) / geo.zp
+    chi_d = np.asarray(chi_rad, float)[:, None] + 2.0 * math.pi * np.arange(geo.discs)[None, :] / geo.discs
+    phases = psi[None, None, :] - chi_d[:, :, None]  # (n, discs, z_p): pin_phases_rad of each unit
+    flat = np.ascontiguousarray(phases.transpose(1, 0, 2).reshape(geo.discs, n * geo.zp))
+    grown = flank_wear_at(wear.flank_um, geo, flat) + pin_wear_at(wear, geo, flat)
+    return np.ascontiguousarray(grown.reshape(geo.discs, n, geo.zp).transpose(1, 0, 2))
 
 
 class WornAngles(CrankAngles):
