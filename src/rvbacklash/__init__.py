@@ -39,6 +39,8 @@ _EXPORTS = {
     "read_bench": "rvbacklash.api",
     "calibrate": "rvbacklash.api",
     "capacity": "rvbacklash.api",
+    "service_life": "rvbacklash.api",
+    "calibrate_wear": "rvbacklash.api",
     "read_duty_cycle": "rvbacklash.design.duty_cycle",
     "plan_sweep": "rvbacklash.analysis.sweep",
     "load_sweep": "rvbacklash.analysis.sweep",
