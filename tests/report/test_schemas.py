@@ -33,6 +33,7 @@ def _outputs():
         "transmission-error": rb.transmission_error(p, positions=400),
         "contact": rb.contact(p),
         "capacity": rb.capacity(p, angles=6),
+        "service-life": rb.service_life(p, duty_cycle="robot-joint", hours=[0, 200], samples=50, angles=6),
         **_bench_outputs(p),
     }
 
