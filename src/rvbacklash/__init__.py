@@ -43,6 +43,8 @@ _EXPORTS = {
     "simulate_selected": "rvbacklash.api",
     "assemble": "rvbacklash.api",
     "generate_batch": "rvbacklash.api",
+    "service_life": "rvbacklash.api",
+    "calibrate_wear": "rvbacklash.api",
     "read_duty_cycle": "rvbacklash.design.duty_cycle",
     "plan_sweep": "rvbacklash.analysis.sweep",
     "load_sweep": "rvbacklash.analysis.sweep",

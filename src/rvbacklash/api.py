@@ -35,6 +35,8 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.scenarios import Comparison, Scenario
     from rvbacklash.analysis.simulation import SimulationResult
     from rvbacklash.analysis.sensitivity_global import SensitivityResult
+    from rvbacklash.analysis.service_life.calibration import WearCalibration
+    from rvbacklash.analysis.service_life.results import ServiceLifeResult
 
 DesignLike = Union[Design, str, Path, Problem]
 DEFAULT_SAMPLES = 1_000_000  # = analysis.simulation.DEFAULT_SAMPLES (a test keeps them equal)
@@ -446,6 +448,54 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
                          output_speed_rpm=result.rated_output_speed_rpm, spec_min_efficiency=spec_min_efficiency,
                          progress=None if progress is None else (lambda i: progress(steps + i)))
     return dataclasses.replace(result, production=run)
+def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[float] = (0.0, 1000.0, 6000.0),
+                 spec_lost_motion_arcmin: float = 1.5, samples: int = 2000, seed: int = 0, angles: int | None = None,
+                 step_fraction: float | None = None,
+                 progress: Callable[[str, float], None] | None = None) -> "ServiceLifeResult":
+    """Precision over the service life (docs/service-life.md): the nominal unit's lost motion, backlash
+    and rigidity after ``hours`` of the duty cycle ``duty_cycle`` (a CSV or TOML file, or the name of an
+    example cycle: ``robot-joint``), its contacts' wear rates and worn flank, and ``samples`` units of
+    the production run (seeded by ``seed``; 0: none): their yield against ``spec_lost_motion_arcmin``
+    versus hours and their accuracy life. ``angles``: crank angles per revolution of each step's loads
+    (default 12); ``step_fraction``: the largest wear depth per time step as a share of the reference
+    clearance (default 0.1). The design needs [elastic]; its [wear] table (optional) sets the wear
+    coefficients and running-in (design/wear.py)."""
+    from rvbacklash.analysis.service_life.datasheet import service_life as _service_life
+    from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    cycle = read_duty_cycle(example_duty_cycle(duty_cycle))
+    return _service_life(prepare(design), cycle, hours, samples=samples, seed=seed,
+                         spec_lost_motion_arcmin=spec_lost_motion_arcmin,
+                         angles=DEFAULT_ANGLES if angles is None else angles,
+                         step_fraction=DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
+                         progress=progress)
+
+
+def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]],
+                   sigma_arcmin: float = 0.01) -> "WearCalibration":
+    """The wear coefficients' common scale (k = s k_design) fitted, with a 95 % interval, to one unit's lost
+    motion measured at 0 h and after some hours of ``duty_cycle`` (``measurements``: (hours, lost motion
+    [arcmin]) pairs, e.g. the ``bench`` command's readings of its loops; ``sigma_arcmin``: one reading's
+    repeatability). docs/service-life.md, "Calibration"."""
+    from rvbacklash.analysis.service_life.calibration import calibrate_wear as _calibrate
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    return _calibrate(prepare(design), read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
+                      sigma_arcmin=sigma_arcmin)
+
+
+def example_duty_cycle(path: str | Path) -> Path:
+    """A duty-cycle file: ``path`` when it exists, else the packaged example of that name
+    (``robot-joint``: examples/duty_cycles/robot-joint.csv)."""
+    p = Path(path)
+    if p.is_file():
+        return p
+    from importlib import resources
+
+    name = p.name if p.suffix else p.name + ".csv"
+    packaged = Path(str(resources.files("rvbacklash.examples") / "duty_cycles" / name))
+    return packaged if packaged.is_file() else p
 
 
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,

@@ -60,6 +60,9 @@ def invocations(d) -> dict[str, list]:
         "bench": ["bench", d / "loop.csv"],
         "calibrate": ["calibrate", "rv80e", "--bench", d / "loop.csv", "-n", "0"],
         "sweep": ["sweep", d / "sweep.toml", "--out", d / "sweep-out", "--scheduler", "inline", "--force"],
+        "capacity": ["capacity", "rv80e", "--angles", "6"],
+        "service-life": ["service-life", "rv80e", "--duty-cycle", "robot-joint", "--hours", "0,100", "-n", "20",
+                         "--angles", "6"],
     }
 
 

@@ -36,6 +36,7 @@ def _outputs():
         "efficiency": _efficiency(p),
         "assemble": rb.assemble(p, units=rb.generate_batch(p, units=3, seed=1)[0],
                                 parts=rb.generate_batch(p, units=3, seed=1)[1], spec_lost_motion_arcmin=1.0)[0],
+        "service-life": rb.service_life(p, duty_cycle="robot-joint", hours=[0, 200], samples=50, angles=6),
         **_bench_outputs(p),
     }
 
@@ -75,7 +76,7 @@ def test_every_listed_output_has_a_schema():
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
                             "transmission-error", "contact", "bench", "calibrate", "capacity",
-                            "efficiency", "assemble"}
+                            "efficiency", "assemble", "service-life"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 

@@ -474,6 +474,7 @@ class SchemaOutput(str, Enum):
     assemble = "assemble"
     capacity = "capacity"
     efficiency = "efficiency"
+    service_life = "service-life"
     bench = "bench"
     calibrate = "calibrate"
 

@@ -27,6 +27,7 @@ from rvbacklash.analysis.bench import BenchResult
 from rvbacklash.analysis.calibration import CalibrationResult
 from rvbacklash.analysis.capacity import CapacityResult
 from rvbacklash.analysis.losses import EfficiencyResult
+from rvbacklash.analysis.service_life.results import ServiceLifeResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
@@ -156,6 +157,10 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
                    "balance with lost motion and backlash at its temperature (issue 40)"),
     "assemble": (_result(AssemblySheet),
                  "rvbacklash assemble --json: the assembly sheet of a measured batch, one row per unit (issue 39)"),
+    "service-life": (_result(ServiceLifeResult),
+                     "rvbacklash service-life --json: the nominal unit's lost motion, backlash and rigidity over the "
+                     "hours of a duty cycle, its contacts' wear rates and worn flank, the production run's yield and "
+                     "accuracy life (issue 38)"),
     "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
                           "exact cycloid-pin geometry"),
 }
