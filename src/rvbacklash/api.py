@@ -402,13 +402,13 @@ def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles
     from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_rating
     from rvbacklash.design.duty_cycle import read_duty_cycle
 
-    cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
+    cycle = read_duty_cycle(example_duty_cycle(duty_cycle)) if duty_cycle is not None else None
     return capacity_rating(prepare(design), angles=DEFAULT_ANGLES if angles is None else angles, duty_cycle=cycle,
                            life_method=life_method)
 
 
 def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
-               temperature_c: float | None = None, output_speed_rpm: float | None = None, units: int = 0,
+               temperature_c: float | None = None, output_speed_rpm: float | None = None, samples: int = 0,
                seed: int = 0, spec_min_efficiency: float | None = None,
                progress: Callable[[int], None] | None = None) -> EfficiencyResult:
     """The efficiency datasheet of the nominal unit (docs/efficiency.md): the efficiency and each
@@ -418,7 +418,7 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     temperature, its time constant, the allowable duty at the case limit, and lost motion and
     backlash at that temperature. ``angles``: crank angles per revolution (default 12);
     ``temperature_c``: the oil's (default [lubrication] temperature_c); ``output_speed_rpm``: the
-    rated point's (default [capacity] rated_output_speed_rpm); ``units``: that many units of the elastic
+    rated point's (default [capacity] rated_output_speed_rpm); ``samples``: that many units of the elastic
     model's production run with ``seed`` (the same units as ``simulate(..., model="elastic")``), each
     followed through the crank angles: their efficiency's distribution and the yield against
     ``spec_min_efficiency`` (a lower limit, 0-1). The design needs [elastic]."""
@@ -428,8 +428,8 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
 
     from rvbacklash.analysis.losses.production import check_run
 
-    check_run(units, spec_min_efficiency)
-    cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
+    check_run(samples, spec_min_efficiency)
+    cycle = read_duty_cycle(example_duty_cycle(duty_cycle)) if duty_cycle is not None else None
     problem = prepare(design)
     if problem.design.elastic is None:
         raise InputError("elastic", None, "the losses need the design's [elastic] table (the loads of the elastic "
@@ -441,10 +441,10 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     k = DEFAULT_ANGLES if angles is None else angles
     result = efficiency_rating(problem, angles=k, temperature_c=temperature_c, output_speed_rpm=output_speed_rpm,
                                duty_cycle=cycle, progress=progress)
-    if not units:
+    if not samples:
         return result
     steps = progress_steps(duty_cycle=cycle)
-    run = efficiency_run(problem, units=units, seed=seed, angles=k, temperature_c=result.temperature_c,
+    run = efficiency_run(problem, units=samples, seed=seed, angles=k, temperature_c=result.temperature_c,
                          output_speed_rpm=result.rated_output_speed_rpm, spec_min_efficiency=spec_min_efficiency,
                          progress=None if progress is None else (lambda i: progress(steps + i)))
     return dataclasses.replace(result, production=run)

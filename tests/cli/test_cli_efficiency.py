@@ -33,9 +33,9 @@ def test_efficiency_errors_name_the_flag_or_field(tmp_path):
     one_line_error(run_cli("efficiency", "rv80e", "--temperature", "500"), "error: --temperature")
     one_line_error(run_cli("efficiency", "rv80e", "--output-speed", "-1"), "error: --output-speed")
     one_line_error(run_cli("efficiency", "rv80e", "--duty-cycle", tmp_path / "none.csv"), "error: --duty-cycle")
-    one_line_error(run_cli("efficiency", "rv80e", "--units", "-1"), "error: --units")
+    one_line_error(run_cli("efficiency", "rv80e", "-n", "-1"), "error: --samples")
     one_line_error(run_cli("efficiency", "rv80e", "--spec-min-efficiency", "0.8"), "error: --spec-min-efficiency")
-    one_line_error(run_cli("efficiency", "rv80e", "--units", "2", "--spec-min-efficiency", "1.5"),
+    one_line_error(run_cli("efficiency", "rv80e", "-n", "2", "--spec-min-efficiency", "1.5"),
                    "error: --spec-min-efficiency")
     from rvbacklash.design.loading import example_text
 

@@ -115,11 +115,11 @@ def efficiency(
     output_speed: Optional[float] = typer.Option(None, "--output-speed", help="The rated point's output speed [r/min] "
                                                  "(default: [capacity] rated_output_speed_rpm)."),
     angles: Optional[int] = typer.Option(None, "--angles", help="Crank angles per revolution (default 12)."),
-    units: int = typer.Option(0, "--units", help="Also this many units of the elastic model's production run (the "
+    samples: int = typer.Option(0, "--samples", "-n", help="Also this many units of the elastic model's production run (the "
                                                  "units `simulate --model elastic` draws with --seed), each followed "
                                                  "through the crank angles: their efficiency at the rated point."),
     seed: int = SEED_OPTION,
-    spec_min_efficiency: Optional[float] = typer.Option(None, "--spec-min-efficiency", help="With --units: the yield "
+    spec_min_efficiency: Optional[float] = typer.Option(None, "--spec-min-efficiency", help="With -n: the yield "
                                                         "of efficiency >= this (0-1) at the rated point."),
     json_out: Optional[str] = json_option("the efficiency, the losses per element, the map, no-load, starting and "
                                           "back-driving torques, the thermal balance"),
@@ -142,11 +142,11 @@ def efficiency(
     from rvbacklash.report.files import render_csv, render_json
 
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
-    if spec_min_efficiency is not None and not units:
-        raise InputError("spec_min_efficiency", spec_min_efficiency, "allowed: with --units (a production run)")
-    with progress_bar(progress_steps(duty_cycle=duty_cycle, units=units), what="losses", enabled=not quiet) as progress:
+    if spec_min_efficiency is not None and not samples:
+        raise InputError("spec_min_efficiency", spec_min_efficiency, "allowed: with -n/--samples (a production run)")
+    with progress_bar(progress_steps(duty_cycle=duty_cycle, units=samples), what="losses", enabled=not quiet) as progress:
         result = api.efficiency(design, duty_cycle=duty_cycle, angles=angles, temperature_c=temperature,
-                                output_speed_rpm=output_speed, units=units, seed=seed,
+                                output_speed_rpm=output_speed, samples=samples, seed=seed,
                                 spec_min_efficiency=spec_min_efficiency, progress=progress)
     data, rows = result.to_dict(), result.rows()
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),

@@ -23,7 +23,7 @@ MAX_UNITS = 10_000
 def check_run(units: int, spec_min_efficiency: float | None) -> None:
     """A production run's parameters (0 units: no run), before any work."""
     if isinstance(units, bool) or not isinstance(units, int) or not 0 <= units <= MAX_UNITS:
-        raise InputError("units", units, f"allowed: a whole number of units from 1 to {MAX_UNITS} (0: none)")
+        raise InputError("samples", units, f"allowed: a whole number of units from 1 to {MAX_UNITS} (0: none)")
     if spec_min_efficiency is not None and not (0.0 < spec_min_efficiency < 1.0):
         raise InputError("spec_min_efficiency", spec_min_efficiency, "allowed: a number between 0 and 1")
 
@@ -36,7 +36,7 @@ def efficiency_run(problem: Problem, *, units: int, seed: int = 0, angles: int =
 
     check_run(units, spec_min_efficiency)
     if units < 1:
-        raise InputError("units", units, f"allowed: a whole number of units from 1 to {MAX_UNITS}")
+        raise InputError("samples", units, f"allowed: a whole number of units from 1 to {MAX_UNITS}")
     lube = problem.design.lubrication
     temp = lube.temperature_c if temperature_c is None else float(temperature_c)
     n0 = problem.design.capacity.rated_output_speed_rpm if output_speed_rpm is None else float(output_speed_rpm)
