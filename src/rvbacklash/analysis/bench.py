@@ -14,13 +14,23 @@ A hysteresis file (torque, output angle, maybe time; design/bench_files.py) goes
    line through the arriving stretch's samples there) against time: a common slope for both
    signs (least squares), removed from every sample; needs two such readings of one sign;
 4. averaging: each branch on a common torque grid (GRID_POINTS plus the definitions' torques):
-   at each node a local quadratic fit of angle against torque over +-WINDOW_FRACTION T_R (at least
-   MIN_FIT_POINTS samples) of every cycle's samples; load branches keep only their nodes beyond
-   the dead band (|T| >= x T_R) and start at the branch they continue (load+(0) = unload-(0)):
-   the jump through the dead bands is no function of torque;
+   at each node a local cubic fit of angle against torque of the k nearest samples of every
+   cycle, k growing by sqrt 2 while the wider fit agrees with the narrower ones and its form
+   error (the quadratic's value less the cubic's) is not significant, up to +-WINDOW_FRACTION T_R
+   (the data choose the window: narrow where the branch bends hardest, at the dead band's ends,
+   wide where it is straight). A turning point belongs to both branches it joins (a loop sampled
+   at the definitions' torques reaches T_R on its loading branch), a sample at zero torque to
+   both branches it joins. Load branches keep only their nodes beyond the dead band (|T| >= x T_R)
+   and start at the branch they continue (load+(0) = unload-(0)): the jump through the dead bands
+   is no function of torque; the unloading branch's end at T = 0 is fitted centred, with the
+   samples its stretch takes past zero before the jump (not one-sided);
 5. centring: the middle of the zero-torque width is 0 (as the model's loops);
-6. noise: sigma of the samples about the local fits (robust: 1.4826 MAD), each node's
-   standard deviation from its fit, propagated linearly through the reader to each figure.
+6. uncertainty: each figure is, linearised, a weighted sum of the samples (the reader's response
+   to each node times the node's fit weights); its noise part is that sum's standard deviation
+   with each sample's own noise (from differences of neighbouring samples, Gasser et al. 1986:
+   no fit enters), its reading part the fits' own bias - the form error and the change to the
+   next window, each counted where it stands out of its noise - added in quadrature
+   (``uncertainty_noise_k2``, ``uncertainty_reading_k2``; both k = 2).
 
 A TE file (output angle and TE, or output and input angle with the ratio) is averaged onto
 TE_POSITIONS equal steps of an output revolution (samples binned by position, the bins' means at
@@ -59,7 +69,6 @@ GRID_POINTS = 41  # nodes per branch (the definitions' torques are added)
 WINDOW_FRACTION = 0.05  # the widest half-width of a node's local fit, of T_R (the data choose the width)
 AGREEMENT = 3.0  # sigmas: a wider fit is taken while it agrees with the narrower ones (and its form error is not significant)
 JUMP_MARGIN = 0.25  # an unloading branch's end is fitted with its stretch's samples this share of the way to the jump
-FORM = "quad"
 LOCAL_NOISE = 41  # samples around each one whose differences give its own noise
 MIN_FIT_POINTS = 8  # samples a branch needs
 REACH_TOLERANCE = 0.02  # a branch reaches a torque if it comes within this fraction of T_R of it (fit extrapolates)
@@ -104,7 +113,7 @@ class BenchLoop(Result):
     samples: int
     cycles: int  # peaks of each sign (the fewer): cycles whose turning points the file holds
     branch_stretches: dict[str, int]  # stretches found per branch, partial ones included
-    noise_arcmin: float  # sigma of the samples about the local fits
+    noise_arcmin: float  # sigma of the samples about the loop (from differences of neighbouring samples)
     drift_arcmin_per_s: float | None  # removed; per sample when the file has no time column; None: not estimated
     drift_per: str  # s | sample
     centring_offset_arcmin: float  # the angle subtracted: the middle of the zero-torque width
@@ -486,10 +495,7 @@ def _local_fit(t: np.ndarray, a: np.ndarray, sigma: np.ndarray, at: float, half:
         idx = order[:k]
         s = sigma[idx]
         cubic, quad = _poly_weights(d[idx], 3), _poly_weights(d[idx], 2)
-        if FORM == "quartic":
-            quart = _poly_weights(d[idx], 4)
-            quad = quart if quart is not None else quad
-        value, form = float(cubic @ a[idx]), (cubic - quad) if FORM == "quartic" else quad - cubic
+        value, form = float(cubic @ a[idx]), quad - cubic
         fit = (k, value, cubic, form)
         if taken:
             dv, var = float(form @ a[idx]), float(np.sum((form * s) ** 2))
