@@ -128,6 +128,7 @@ class BenchLoop(Result):
     metadata: tuple[str, ...] = ()  # the file's lines above its header (a rig's metadata), as written
     uncertainty_noise_k2: dict[str, float] = field(default_factory=dict)  # the part of uncertainty_k2 from the noise
     uncertainty_reading_k2: dict[str, float] = field(default_factory=dict)  # and from the reader's own fits (bias)
+    sample_sigma_arcmin: np.ndarray = field(default=None, metadata={EXPORT: False})  # each sample's own noise
 
     def figures(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in FIGURES}
@@ -613,7 +614,7 @@ def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring
         unc, int(torque.size), int(cycles), counts, noise, drift,
         "s" if has_time else "sample", float(offset), peaks, tuple(notes), loop, (), torque, angle - offset, idx,
         sigmas, uncertainty_noise_k2={k: 2.0 * u_noise[k] for k in FIGURES},
-        uncertainty_reading_k2={k: 2.0 * u_reading[k] for k in FIGURES})
+        uncertainty_reading_k2={k: 2.0 * u_reading[k] for k in FIGURES}, sample_sigma_arcmin=sigma)
 
 
 def _average(torque, angle, sigma, fit, specs, x, half, col_t) -> dict[str, tuple[np.ndarray, list[NodeFit]]]:
