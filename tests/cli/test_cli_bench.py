@@ -107,8 +107,8 @@ def test_calibrate_flags_a_loop_the_model_did_not_make(truth, tmp_path, monkeypa
     assert d["lack_of_fit"] is True and d["residual_over_expected"] > 10 and len(d["flags"]) == 2
     assert [x["at_bound"] for x in d["parameters"]] == [None, None, "lower"]
     comments = [line for line in out.read_text().splitlines() if line.startswith("# WARNING, ")]
-    assert [c.split(":")[0] for c in comments] == ["# WARNING, lack of fit",
-                                                  "# WARNING, crank_clearance_offset_um at its lower bound -4.5 um (zero clearance) for " + str(f)]
+    bound = f"# WARNING, crank_clearance_offset_um at its lower bound -4.5 um (zero clearance) for {f}"
+    assert [c.split(":")[0] for c in comments] == ["# WARNING, lack of fit", bound]
 
 
 # --- bad data: one line naming the file and the column, exit 2, nothing written ----------------------

@@ -67,7 +67,7 @@ from rvbacklash.results import EXPORT, Result
 TURN_FRACTION = 0.2  # hysteresis threshold of the turning points, of the torque's range
 GRID_POINTS = 41  # nodes per branch (the definitions' torques are added)
 WINDOW_FRACTION = 0.05  # the widest half-width of a node's local fit, of T_R (the data choose the width)
-AGREEMENT = 3.0  # sigmas: a wider fit is taken while it agrees with the narrower ones (and its form error is not significant)
+AGREEMENT = 3.0  # sigmas: a wider fit is taken while it agrees with the narrower ones (its form error not significant)
 JUMP_MARGIN = 0.25  # an unloading branch's end is fitted with its stretch's samples this share of the way to the jump
 LOCAL_NOISE = 41  # samples around each one whose differences give its own noise
 MIN_FIT_POINTS = 8  # samples a branch needs

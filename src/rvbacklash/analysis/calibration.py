@@ -27,6 +27,14 @@ InputError naming the parameter: a column of the scaled Jacobian (nearly) a comb
 others (condition number > IDENTIFIABLE_CONDITION), or a structure stiffness that runs off to
 rigid or whose standard error exceeds half its value (a loop of a stiff structure says only
 "stiffer than this").
+
+Fit quality: the intervals assume a model that follows the loops. The residual is set against
+what each sample's noise (the bench reader's, from differences: no fit enters) and the model's
+resolution (its interpolated loop against the loop solved at each sample's torque) explain; above
+LACK_OF_FIT_RATIO times that, ``lack_of_fit`` with the residuals per branch and |T| band
+(``misfit``: where it sits). A parameter left at a bound (any unit's clearance at zero, friction at
+zero, ...) is ``at_bound``: its value is no estimate. Both are in ``flags`` (the table, the JSON and
+the written design's comments).
 """
 
 from __future__ import annotations
@@ -300,14 +308,17 @@ def _misfit_flag(rms: float, expected: float, ratio: float, segments) -> str:
             f"which assume it does, are too narrow; the misfit sits on {where or 'the whole loop'}")
 
 
-def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources, nominal_g: float) -> tuple[list, list[str]]:
+def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources) -> tuple[list, list[str]]:
     """Which of K_s, T_f and the clearance offset (any unit's) the fit left at a bound: within a
     tenth of its standard error of it (or 1e-9 of the bound)."""
     m = len(sources)
     lo = np.concatenate([bounds[0][:2], np.full(m, bounds[0][2])])
     hi = np.concatenate([bounds[1][:2], np.full(m, bounds[1][2])])
     v, s = x[:2 + m], sd[:2 + m]
-    near = lambda b: np.maximum(0.1 * s, 1e-9 * np.maximum(np.abs(b), 1.0))  # noqa: E731
+
+    def near(b):
+        return np.maximum(0.1 * s, 1e-9 * np.maximum(np.abs(b), 1.0))
+
     side = np.where(v - lo <= near(lo), -1, np.where(hi - v <= near(hi), 1, 0))
     what = {("structure_stiffness_nm_per_arcmin", -1): "its lower bound {b:g} N m/arcmin",
             ("structure_stiffness_nm_per_arcmin", 1): "its upper bound {b:g} N m/arcmin (rigid)",
@@ -442,7 +453,7 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
     rms = float(math.sqrt(float(sol.fun @ sol.fun) / sol.fun.size))
     expected, ratio, segments = _fit_quality(fit, sol.x, sol.fun, tr)
     lack = bool(ratio > LACK_OF_FIT_RATIO)
-    at_bound, flags = _bound_flags(sol.x, sd_all, bounds, sources, nominal_g)
+    at_bound, flags = _bound_flags(sol.x, sd_all, bounds, sources)
     if lack:
         flags.insert(0, _misfit_flag(rms, expected, ratio, segments))
     params = tuple(FittedParameter(n, dv, float(v), float(a), float(b), f, ab) for n, dv, v, (a, b), f, ab in
