@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.bench import BenchResult
     from rvbacklash.analysis.calibration import CalibrationResult
-    from rvbacklash.analysis.capacity import CapacityResult
+    from rvbacklash.analysis.capacity import CapacityResult, CapacityTrade
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
@@ -306,13 +306,15 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                           spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
                           workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
-    cap = None
+    cap = trade = None
     if capacity:  # the capacity and life section (issue 37; docs/capacity.md): the nominal unit's datasheet
-        from rvbacklash.analysis.capacity import capacity_rating
+        from rvbacklash.analysis.capacity import capacity_rating, capacity_trade
 
         cap = capacity_rating(problem)
+        if not sim.partial:  # and the trade: lost motion against life of the design and its what-ifs
+            trade = capacity_trade(problem)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission, cap)
+                             elastic, sweep, transmission, cap, trade)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
@@ -357,6 +359,21 @@ def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles
     cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
     return capacity_rating(prepare(design), angles=DEFAULT_ANGLES if angles is None else angles, duty_cycle=cycle,
                            life_method=life_method)
+
+
+def capacity_trade(design: DesignLike, *, what_ifs: Iterable | None = None, angles: int | None = None,
+                   life_method: str | None = None, progress: Callable[[int], None] | None = None) -> CapacityTrade:
+    """Lost motion against life (docs/capacity.md, "The trade"): the nominal unit's lost motion, reducer
+    L10 at the stated rated torque and derived rated torque, for the design as given (``points[0]``)
+    and for each what-if of it. ``what_ifs``: ``WhatIf`` items (design edits by dotted path;
+    ``clearance_what_if(c)``, ``modification_what_if(m)`` build the usual ones) — None: the crank
+    bearings' clearance at -4 (a preload), 0, 10, 20 um and the equidistance modification at 0, 2,
+    10 um; (): the design alone. ``angles``: crank angles per revolution (default 24); ``progress(done)``:
+    points finished. The design needs [elastic] and [structure]."""
+    from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_trade as _trade
+
+    return _trade(prepare(design), what_ifs, angles=DEFAULT_ANGLES if angles is None else angles,
+                  life_method=life_method, progress=progress)
 
 
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,

@@ -157,6 +157,30 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return rendered(await run(body, lambda job: api.hysteresis(design_of(body).problem, points=points),
                                   pool="figures"))
 
+    @endpoint({"angles"})
+    async def capacity(body: dict) -> Response:
+        """The capacity card (docs/workbench.md): the edited design's capacity datasheet (``rvbacklash
+        capacity --json``) and its point of lost motion against life (``capacity_trade``, the design
+        alone), cached by the design's text: a what-if seen before answers at once."""
+        angles = whole(body, "angles", 24, 1, 64, " in the workbench (the command line: --angles up to 4096)")
+
+        def compute(job: Job) -> str:
+            item = design_of(body)
+            key = json.dumps(["capacity", item.text, angles])
+            cached = results.get(key)
+            if cached is not None:
+                return cached
+            rating = api.capacity(item.problem, angles=angles)
+            job.check()  # superseded while the datasheet ran: the trade point is not computed for nobody
+            trade = api.capacity_trade(item.problem, what_ifs=(), angles=angles)
+            data = rating.to_dict()
+            data.pop("loads", None)  # the loads over a revolution: the command line's --json has them; the card not
+            text = render_json({"capacity": data, "trade": trade.to_dict()})
+            results.put(key, text)
+            return text
+
+        return Response(await run(body, compute, pool="capacity"), media_type="application/json")
+
     @endpoint({"samples", "seed"})
     async def elastic_section(body: dict) -> Response:
         n = samples(body, "elastic-section", "elastic", 2000, 20)
@@ -253,7 +277,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     async def plotly(request: Request) -> Response:
         return FileResponse(plotly_js(), media_type="text/javascript")
 
-    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
+    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section, "capacity": capacity,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),
