@@ -147,7 +147,7 @@ function buildControls(c) {
   const mods = $("#modifications");
   mods.replaceChildren();
   for (const [path, value] of Object.entries(c.modifications)) {
-    const input = el("input", { type: "number", step: "any", value: value });
+    const input = el("input", { type: "number", step: "any", value: value, id: "mod-" + path.split(".")[1] });
     input.addEventListener("change", () => { state.edits[path] = numberOf(input); update(); });
     const name = path.split(".")[1].replace("_modification_um", "").replace("_", " ");
     mods.append(fieldRow(path, name, input));
