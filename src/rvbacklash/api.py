@@ -407,11 +407,15 @@ def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None
 
 def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, model: str = "linear",
              spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-             spec_te_arcsec: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0, scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
+             spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
+             spec_rated_torque_nm: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0,
+             scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
              progress: Callable[[int], None] | None = None) -> AllocationResult:
     """The cheapest precision grade per part group such that P(backlash <= spec_arcmin [and
     rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um] [and TE peak-to-peak
-    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution]) >= yield_target
+    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution] [and
+    the reducer's L10 >= spec_life_h, the derived rated torque >= spec_rated_torque_nm: the elastic model's life
+    outputs, docs/capacity.md]) >= yield_target
     (backlash: the model's primary output, lost motion for the elastic model), with the uniform-grade baseline
     and the cost-yield Pareto front (docs/allocation.md). Costs: the design's [costs] table over
     the defaults. The linear model is solved exactly; the Monte-Carlo models (``samples`` per
@@ -425,7 +429,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
     if model == "linear" or scheduler in (None, "inline"):
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                         spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
                          executor=None, workers=workers, pareto=pareto, progress=progress)
     try:
         from rvbacklash.analysis.executor import executor
@@ -436,7 +441,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
         ex = stack.enter_context(executor(scheduler, workers))
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                         spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
                          executor=ex, workers=None, pareto=pareto, progress=progress)
 
 
