@@ -153,6 +153,10 @@ def test_bad_input_names_its_field_in_one_line(client, body, field, fragment):
     ({"spec_arcmin": -3, "yield": 0.99}, "spec_arcmin", "spec_arcmin = -3.0: allowed: a finite number > 0"),
     ({"spec_arcmin": 3, "yield": 0.99, "model": "contact", "spec_rigidity_nm_per_arcmin": 400},
      "spec_rigidity_nm_per_arcmin", "spec_rigidity_nm_per_arcmin = 400.0"),
+    ({"spec_arcmin": 3, "yield": 0.99, "spec_life_h": 6000}, "spec_life_h",
+     "spec_life_h = 6000.0: the life outputs come from the elastic model"),
+    ({"spec_arcmin": 3, "yield": 0.99, "model": "elastic", "spec_rated_torque_nm": -1}, "spec_rated_torque_nm",
+     "spec_rated_torque_nm = -1.0: allowed: a finite number > 0"),
 ])
 def test_an_allocations_bad_input_names_the_requests_field(client, body, field, fragment):
     """The request's "yield", not the API's yield_target (issue 35, 2.10)."""

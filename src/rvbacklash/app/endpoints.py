@@ -216,7 +216,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return rendered(await run(body, compute, pool="demand"))
 
     @endpoint({"model", "spec_arcmin", "yield", "spec_rigidity_nm_per_arcmin", "spec_preload_um", "spec_te_arcsec",
-               "samples", "seed"}, name="allocate")
+               "spec_life_h", "spec_rated_torque_nm", "samples", "seed"}, name="allocate")
     async def allocate(body: dict) -> Response:
         model = choice(body, "model", "linear", MODELS)
         spec = number_or_none(body, "spec_arcmin")
@@ -227,6 +227,8 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         kwargs = {"spec_rigidity_nm_per_arcmin": number_or_none(body, "spec_rigidity_nm_per_arcmin"),
                   "spec_preload_um": number_or_none(body, "spec_preload_um"),
                   "spec_te_arcsec": number_or_none(body, "spec_te_arcsec"),
+                  "spec_life_h": number_or_none(body, "spec_life_h"),
+                  "spec_rated_torque_nm": number_or_none(body, "spec_rated_torque_nm"),
                   "seed": whole(body, "seed", 0, 0, 2**63 - 1)}
         if model != "linear":  # the linear model's allocation is exact: no samples
             kwargs["samples"] = samples(body, "allocate", model, api.ALLOCATION_SAMPLES, 1000)
