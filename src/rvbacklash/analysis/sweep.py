@@ -105,7 +105,8 @@ def _fingerprint(spec: SweepSpec, base_data: dict) -> str:
     from rvbacklash._version import __version__
 
     # life false is left out: the fingerprints of sweeps written before the field existed stay theirs
-    doc = {"sweep": spec.model_dump(mode="json", exclude={"name", "description"} | ({"life"} if not spec.life else set())),
+    left_out = {"name", "description"} | ({"life"} if not spec.life else set())
+    doc = {"sweep": spec.model_dump(mode="json", exclude=left_out),
            "design": base_data,
            "version": __version__}
     return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode("utf-8")).hexdigest()

@@ -286,7 +286,8 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     async def plotly(request: Request) -> Response:
         return FileResponse(plotly_js(), media_type="text/javascript")
 
-    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section, "capacity": capacity,
+    posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
+             "capacity": capacity,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),

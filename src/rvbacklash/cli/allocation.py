@@ -112,7 +112,8 @@ def allocate(
         result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                               spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload,
                               spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
-                              spec_rated_torque_nm=spec_rated_torque_nm, samples=n, seed=seed, scheduler=scheduler, workers=threads, progress=progress)
+                              spec_rated_torque_nm=spec_rated_torque_nm, samples=n, seed=seed, scheduler=scheduler,
+                              workers=threads, progress=progress)
     # every row of the Pareto front says whether the search was interrupted, as every other CSV
     data, rows = result.to_dict(), [{**r, "partial": result.partial} for r in result.front_rows()]
     header = (f"Written by rvbacklash allocate ({problem.source}): {result.binding.constraint}, {result.model} model.\n"

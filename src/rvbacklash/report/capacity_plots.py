@@ -94,8 +94,8 @@ def trade_figure(trade):
     ax.axhline(trade.rated_life_h, color=GREY, ls=":", lw=1.2)
     ax.set_xlabel("lost motion of the nominal unit [arcmin]")
     ax.set_ylabel(f"reducer L10 at {trade.stated_rated_torque_nm:g} N·m [h]")
-    ax.set_title(f"{trade.design_name}: lost motion against life ({trade.life_method}, {trade.rated_output_speed_rpm:g} "
-                 f"r/min; rated life {trade.rated_life_h:g} h dotted)", fontsize=9.5)
+    ax.set_title(f"{trade.design_name}: lost motion against life ({trade.life_method}, "
+                 f"{trade.rated_output_speed_rpm:g} r/min; rated life {trade.rated_life_h:g} h dotted)", fontsize=9.5)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7.5, loc="best")
     fig.tight_layout()

@@ -107,7 +107,8 @@ class CapacityTrade(Result):
 
     def summary(self) -> list[str]:
         d = self.design
-        return [f"{self.design_name}: {len(self.points)} points; the design: lost motion {d.lost_motion_arcmin:.4g} arcmin, "
+        return [f"{self.design_name}: {len(self.points)} points; the design: lost motion "
+                f"{d.lost_motion_arcmin:.4g} arcmin, "
                 f"L10 {d.reducer_life_h:.4g} h at {self.stated_rated_torque_nm:g} N m, "
                 f"derived rated torque {d.derived_rated_torque_nm:.4g} N m"]
 
