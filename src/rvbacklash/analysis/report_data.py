@@ -38,7 +38,8 @@ class ReportData(Result):
     @property
     def partial(self) -> bool:
         return self.simulation.partial or any(getattr(x, "partial", False) for x in (self.comparison, self.sensitivity,
-                                                                                       self.allocation))
+                                                                                       self.allocation,
+                                                                                       self.capacity_trade))
 
     def key_numbers(self) -> dict:
         """The numbers the page marks, by the JSON path they have in ``to_dict``, the chosen model's
