@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.bench import BenchResult
     from rvbacklash.analysis.calibration import CalibrationResult
-    from rvbacklash.analysis.capacity import CapacityResult
+    from rvbacklash.analysis.capacity import CapacityResult, CapacityTrade
     from rvbacklash.analysis.losses import EfficiencyResult
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
@@ -354,13 +354,15 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                           spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
                           workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
-    cap = None
+    cap = trade = None
     if capacity:  # the capacity and life section (issue 37; docs/capacity.md): the nominal unit's datasheet
-        from rvbacklash.analysis.capacity import capacity_rating
+        from rvbacklash.analysis.capacity import capacity_rating, capacity_trade
 
         cap = capacity_rating(problem)
+        if not sim.partial:  # and the trade: lost motion against life of the design and its what-ifs
+            trade = capacity_trade(problem)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission, cap)
+                             elastic, sweep, transmission, cap, trade)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
@@ -498,6 +500,21 @@ def example_duty_cycle(path: str | Path) -> Path:
     return packaged if packaged.is_file() else p
 
 
+def capacity_trade(design: DesignLike, *, what_ifs: Iterable | None = None, angles: int | None = None,
+                   life_method: str | None = None, progress: Callable[[int], None] | None = None) -> CapacityTrade:
+    """Lost motion against life (docs/capacity.md, "The trade"): the nominal unit's lost motion, reducer
+    L10 at the stated rated torque and derived rated torque, for the design as given (``points[0]``)
+    and for each what-if of it. ``what_ifs``: ``WhatIf`` items (design edits by dotted path;
+    ``clearance_what_if(c)``, ``modification_what_if(m)`` build the usual ones) — None: the crank
+    bearings' clearance at -4 (a preload), 0, 10, 20 um and the equidistance modification at 0, 2,
+    10 um; (): the design alone. ``angles``: crank angles per revolution (default 24); ``progress(done)``:
+    points finished. The design needs [elastic] and [structure]."""
+    from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_trade as _trade
+
+    return _trade(prepare(design), what_ifs, angles=DEFAULT_ANGLES if angles is None else angles,
+                  life_method=life_method, progress=progress)
+
+
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,
                     specs: Mapping[str, float] | None = None, probabilities: Iterable[float] = (0.05, 0.95),
                     samples: int = 2000, seed: int = 0) -> ElasticSection:
@@ -529,11 +546,15 @@ def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None
 
 def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, model: str = "linear",
              spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-             spec_te_arcsec: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0, scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
+             spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
+             spec_rated_torque_nm: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0,
+             scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
              progress: Callable[[int], None] | None = None) -> AllocationResult:
     """The cheapest precision grade per part group such that P(backlash <= spec_arcmin [and
     rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um] [and TE peak-to-peak
-    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution]) >= yield_target
+    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution] [and
+    the reducer's L10 >= spec_life_h, the derived rated torque >= spec_rated_torque_nm: the elastic model's life
+    outputs, docs/capacity.md]) >= yield_target
     (backlash: the model's primary output, lost motion for the elastic model), with the uniform-grade baseline
     and the cost-yield Pareto front (docs/allocation.md). Costs: the design's [costs] table over
     the defaults. The linear model is solved exactly; the Monte-Carlo models (``samples`` per
@@ -547,7 +568,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
     if model == "linear" or scheduler in (None, "inline"):
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                         spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
                          executor=None, workers=workers, pareto=pareto, progress=progress)
     try:
         from rvbacklash.analysis.executor import executor
@@ -558,7 +580,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
         ex = stack.enter_context(executor(scheduler, workers))
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                         spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
                          executor=ex, workers=None, pareto=pareto, progress=progress)
 
 
