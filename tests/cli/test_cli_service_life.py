@@ -9,7 +9,7 @@ import jsonschema
 
 import rvbacklash.examples as examples
 
-from helpers import one_line_error, run_cli
+from helpers import interrupt_on_progress, one_line_error, run_cli
 
 
 def test_service_life_table_json_csv_plot(tmp_path):
@@ -75,37 +75,10 @@ def test_a_stop_keeps_the_steps_done_marked_partial():
 
 def test_ctrl_c_in_service_life_exits_130_with_the_steps_done(tmp_path):
     """Ctrl-C once the stepping has finished steps: exit 130, the JSON written and marked partial."""
-    import os
-    import pty
-    import re
-    import signal
-    import subprocess
-    import sys
-    import time
-
     out = tmp_path / "s.json"
-    master, slave = pty.openpty()
-    proc = subprocess.Popen([sys.executable, "-m", "rvbacklash", "service-life", "rv80e", "--duty-cycle", "robot-joint",
-                             "--hours", "0,20000", "-n", "0", "--step-fraction", "0.02", "--json", str(out)],
-                            stdin=slave, stdout=slave, stderr=slave, cwd=tmp_path, env={**os.environ, "COLUMNS": "120"})
-    os.close(slave)
-    seen, sent = b"", False
-    deadline = time.monotonic() + 900  # a guard: an empty numba cache on a loaded machine compiles for minutes
-    while time.monotonic() < deadline:
-        try:
-            chunk = os.read(master, 4096)
-        except OSError:
-            break
-        if not chunk:
-            break
-        seen += chunk
-        if not sent and re.search(rb"service life\S*\s.*?\b[1-9][0-9]*/1000", seen):
-            proc.send_signal(signal.SIGINT)
-            sent = True
-    proc.wait(timeout=120)
-    os.close(master)
-    tty = seen.decode(errors="replace")
-    assert sent, tty[-2000:]
-    assert proc.returncode == 130 and "Traceback" not in tty, tty[-2000:]
+    code, tty = interrupt_on_progress(["service-life", "rv80e", "--duty-cycle", "robot-joint", "--hours", "0,20000",
+                                       "-n", "0", "--step-fraction", "0.02", "--json", out], tmp_path,
+                                      progress=rb"service life\S*\s.*?\b[1-9][0-9]*/1000")
+    assert code == 130 and "Traceback" not in tty, tty[-2000:]
     data = json.loads(out.read_text())
     assert data["partial"] is True and 0 < data["steps"] and data["trajectory"][-1]["hours"] < 20000
