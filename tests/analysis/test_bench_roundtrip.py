@@ -69,17 +69,27 @@ def test_hysteresis_csv_and_json_loops_read_back_within_their_uncertainty(loops,
         assert misses(u, h) == [], noise
 
 
-def test_a_loop_with_torque_noise_or_loaded_in_steps_is_read(loops, tmp_path):
-    """Before: the 41-point loop with 0.3 N m of torque noise was refused in 2 of 8 realisations,
-    a loop loaded in 2.5 % steps always."""
-    h = loops[41]
+@pytest.mark.parametrize("points", [41, 401, 2001])
+def test_a_loop_with_torque_noise_is_read_within_its_uncertainty(loops, points, tmp_path):
+    """0.3 N m of torque noise (0.04 % of T_R): the loop is read and its k = 2 intervals cover the
+    loop's own figures >= 90 % of the time at every number of points. Before: the 41-point loop was
+    refused in 2 of 8 realisations. (Measured over 30 realisations: 88/90, 87/90, 86/90 figures
+    covered at 41/401/2001 points; what is left uncovered is the load branches' bias at +-x T_R,
+    docs/bench.md.)"""
+    h = loops[points]
     t, a = json_loop(h)
-    covered = 0
-    for seed in range(8):
+    covered, realisations = 0, 4 if points > 1000 else 8
+    for seed in range(realisations):
         rng = np.random.default_rng(100 + seed)
         u = read(plain_csv(tmp_path / "tn.csv", t + rng.normal(0.0, 0.3, t.size), a))
         covered += len(FIGS) - len(misses(u, h))
-    assert covered >= 0.9 * 8 * len(FIGS)
+    assert covered >= 0.9 * realisations * len(FIGS)
+
+
+def test_a_loop_loaded_in_steps_is_read(loops, tmp_path):
+    """Before: a loop loaded in 2.5 % steps was always refused."""
+    h = loops[41]
+    t, a = json_loop(h)
     # a step-loaded bench: the torque held at each 2.5 % of T_R, five readings per step
     on_step = np.abs(t / TR / 0.025 - np.round(t / TR / 0.025)) < 1e-9
     rng = np.random.default_rng(5)
