@@ -273,7 +273,8 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 allocate_model: str | None = None,
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
-                progress: Callable[[int], None] | None = None, capacity: bool = False) -> ReportData:
+                progress: Callable[[int], None] | None = None, capacity: bool = False, efficiency: bool = False,
+                duty_cycle: str | Path | None = None) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
@@ -284,8 +285,10 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     the Sobol chart) with ``allocate_model`` (default: ``model``; e.g. "linear" for a fast, conservative
     allocation beside a Monte-Carlo report) and ``allocate_samples`` per candidate (Monte-Carlo models);
     ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``); ``capacity``: the capacity and life
-    section (docs/capacity.md). An interrupted simulation skips what follows it; the data are then marked
-    partial."""
+    section (docs/capacity.md); ``efficiency``: the losses and efficiency section (docs/efficiency.md), with
+    ``duty_cycle`` (a CSV or TOML file or a packaged cycle's name; implies ``efficiency``) its thermal balance
+    and lost motion and backlash at the steady temperature. An interrupted simulation skips what follows it;
+    the data are then marked partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
     from rvbacklash.analysis.scenarios import Comparison
@@ -294,6 +297,12 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     problem = prepare(design)
+    cycle = None
+    if duty_cycle is not None:  # read before any work: a bad file fails first
+        from rvbacklash.design.duty_cycle import read_duty_cycle
+
+        cycle = read_duty_cycle(example_duty_cycle(duty_cycle))
+        efficiency = True
     if allocate_model is not None and allocate_model not in ("linear", "contact", "elastic", "transmission"):
         raise InputError("allocate_model", allocate_model, "allowed: linear, contact, elastic or transmission")
     if allocate_model is not None and not allocate:
@@ -361,8 +370,13 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
         cap = capacity_rating(problem)
         if not sim.partial:  # and the trade: lost motion against life of the design and its what-ifs
             trade = capacity_trade(problem)
+    eff = None
+    if efficiency and not sim.partial:  # the losses and temperature section (issue 40; docs/efficiency.md)
+        from rvbacklash.analysis.losses import efficiency_rating
+
+        eff = efficiency_rating(problem, duty_cycle=cycle)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission, cap, trade)
+                             elastic, sweep, transmission, cap, trade, eff)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,

@@ -143,3 +143,28 @@ def test_the_models_own_loop_is_not_flagged(rv80e_problem, truth, tmp_path, nois
     assert not r.lack_of_fit and r.flags == () and r.residual_over_expected < 1.1
     assert all(p.at_bound is None for p in r.parameters)
     assert max(s.over_expected for s in r.misfit) < 1.25
+
+
+def test_the_contacts_friction_model_fits_its_coefficient(tmp_path):
+    """Issue 40 item 3: with friction_model = "contacts" calibrate fits the friction model's uncertain
+    coefficient (the static coefficient on the pins and the mesh, [lubrication]) instead of a bare torque:
+    a model-made loop (noise, offset, drift) with mu_s = 0.25 gives it back within its 95 % interval, the
+    calibrated design carries it in [lubrication] and reproduces the loop's friction."""
+    from helpers import example_with
+
+    base = example_with("rv80e", ("friction_torque_nm = 2.0", 'friction_model = "contacts"'))
+    truth = with_elastic(base.model_copy(update={"lubrication": base.lubrication.model_copy(
+        update={"static_friction_coefficient": 0.25})}), structure_stiffness_nm_per_arcmin=TRUE_K)
+    f = unit_file(truth, tmp_path / "u.csv", 6.0, seed=3, samples=150)
+    r = calibrate(rb.prepare(base), [f], bootstrap=0)
+    p = r.parameter("static_friction_coefficient")
+    assert p.design_value == 0.12
+    assert p.ci95_low <= 0.25 <= p.ci95_high, p
+    assert p.ci95_high - p.ci95_low < 0.05  # the loop resolves it
+    k = r.parameter("structure_stiffness_nm_per_arcmin")
+    assert k.ci95_low <= TRUE_K <= k.ci95_high
+    assert r.design.lubrication.static_friction_coefficient == pytest.approx(p.value, rel=1e-12)
+    assert "static_friction_coefficient" in calibration_header(r)
+    again = hysteresis(rb.prepare(r.design))
+    assert again.friction_model == "contacts"
+    assert again.friction_load_fraction == pytest.approx(hysteresis(truth).friction_load_fraction, rel=0.05)

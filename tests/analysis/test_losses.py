@@ -147,15 +147,22 @@ def test_equal_expansion_coefficients_leave_the_clearances(problem, lm):
     c = clearance_change(problem, th, 80.0)
     # only the designed modifications' own growth (5 um x 12e-6 x 60 K = 0.0036 um): rounding
     for v in (c.moving_distance_modification_um, c.equidistance_modification_um, c.pin_hole_clearance_um,
-              c.crank_bearing_clearance_um):
+              c.crank_bearing_clearance_um, c.support_bearing_clearance_um):
         assert abs(v) < 0.005
     ref = precision_at_temperature(problem, lm.model, th, 20.0)
     hot = precision_at_temperature(problem, lm.model, th, 80.0)
     assert hot.lost_motion_arcmin == pytest.approx(ref.lost_motion_arcmin, abs=2e-3)
+    assert hot.torsional_rigidity_nm_per_arcmin == pytest.approx(ref.torsional_rigidity_nm_per_arcmin, rel=1e-3)
     # the default coefficients (housing 11e-6 below the discs' 12.5e-6) close the pins' clearance as it warms
     warm = precision_at_temperature(problem, lm.model, problem.design.thermal, 60.0)
     assert warm.clearance.moving_distance_modification_um == pytest.approx(77.5 * 1.5e-6 * 40 * 1e3, abs=0.02)
     assert warm.lost_motion_arcmin < ref.lost_motion_arcmin
+    # the support bearings (32005X, d_m 36 mm, D_w 5.5 mm): the steel journal and rollers outgrow the iron
+    # carrier's seat: (11.0 x 41.5 - 12.5 x 30.5 - 12.5 x 11) e-6 x 40 K = -2.49 um (a preload), stiffer
+    assert warm.clearance.support_bearing_clearance_um == pytest.approx(
+        (11.0e-6 * 41.5 - 12.5e-6 * 30.5 - 12.5e-6 * 11.0) * 40 * 1e3, rel=1e-9)
+    base = precision_at_temperature(problem, lm.model, problem.design.thermal, 20.0)
+    assert warm.torsional_rigidity_nm_per_arcmin > base.torsional_rigidity_nm_per_arcmin
 
 
 def test_bearing_friction_lies_in_the_makers_published_range(problem, lm):

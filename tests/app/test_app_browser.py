@@ -23,6 +23,10 @@ LOST_MOTION = '[data-key="lost_motion.yield"]'
 CAPACITY_KEYS = ("capacity.derived_rated_torque_nm", "capacity.reducer_life_h", "capacity.momentary_maximum_torque_nm",
                  "capacity.limiting_element", "capacity.moment_rigidity_nm_per_arcmin", "capacity.allowable_moment_nm",
                  "trade.lost_motion_arcmin")
+EFFICIENCY_KEYS = ("efficiency.efficiency_at_rated", "efficiency.total_loss_at_rated_w", "efficiency.starting_torque_nm",
+                   "efficiency.no_load_running_torque.0.no_load_torque_nm", "efficiency.contacts_loop_friction_at_rated_nm")
+TEMPERATURE_KEYS = ("efficiency.thermal.steady_temperature_c", "efficiency.thermal.allowable_duty_at_limit",
+                    "efficiency.thermal.time_constant_min")
 
 
 def shown(page) -> str:
@@ -74,6 +78,13 @@ def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
         card = {k: page.get_attribute(f'#capacity-card [data-key="{k}"]', "data-value") for k in CAPACITY_KEYS}
         first_point = page.evaluate("window.workbench.trade.map((p) => [p.label, p.lost_motion_arcmin])")
         assert page.is_visible("#capacity-section") and page.inner_text("#capacity-error") == ""
+        # the efficiency and temperature cards (issue 40): the packaged robot-joint cycle's heat balance
+        page.wait_for_function("document.body.dataset.efficiencyShown == String(window.workbench.seq)",
+                               timeout=300_000)
+        eff_card = {k: page.get_attribute(f'#efficiency-card [data-key="{k}"]', "data-value") for k in EFFICIENCY_KEYS}
+        temp_card = {k: page.get_attribute(f'#temperature-card [data-key="{k}"]', "data-value")
+                     for k in TEMPERATURE_KEYS}
+        assert page.is_visible("#efficiency-section") and page.inner_text("#efficiency-error") == ""
 
         after_change(page, lambda: page.select_option("#grade-cycloid", "3"))
         after = float(page.get_attribute(LOST_MOTION, "data-value"))
@@ -145,6 +156,15 @@ def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
     assert float(card["capacity.moment_rigidity_nm_per_arcmin"]) == \
         theirs["main_bearings"]["moment_rigidity_nm_per_arcmin"]
     assert float(card["capacity.allowable_moment_nm"]) == theirs["main_bearings"]["allowable_moment_nm"]
+    # the efficiency and temperature cards show what `rvbacklash efficiency --duty-cycle robot-joint --json` gives
+    eff = run_cli("efficiency", "rv80e", "--duty-cycle", "robot-joint", "--json", "-")
+    assert eff.returncode == 0, eff.stderr
+    theirs = json.loads(eff.stdout)
+    for k, v in {**eff_card, **temp_card}.items():
+        want = theirs
+        for part in k.split(".")[1:]:
+            want = want[int(part)] if part.isdigit() else want[part]
+        assert float(v) == want, k
     loop = json.loads(run_cli("hysteresis", "rv80e", "--json", "-").stdout)
     assert first_point == [["the design as loaded", loop["lost_motion_arcmin"]]]
     assert float(card["trade.lost_motion_arcmin"]) == loop["lost_motion_arcmin"]

@@ -330,3 +330,19 @@ def test_the_capacity_card_answers_the_clis_json_and_the_trade(client):
     assert bad.status_code == 422 and bad.json()["field"] == "angles"
     none = client.post("/api/capacity", json={"design": "sun2014"})
     assert none.status_code == 422 and none.json()["field"] in ("elastic", "structure"), none.text
+
+
+def test_the_efficiency_cards_answer_the_clis_json(client):
+    """The efficiency and temperature cards (issue 40): `rvbacklash efficiency --json --duty-cycle robot-joint`
+    of the edited design; bad input names the request's field."""
+    import rvbacklash as rb
+
+    r = client.post("/api/efficiency", json={"design": "rv80e", "request_id": 7})
+    assert r.status_code == 200, r.text
+    card = r.json()
+    theirs = json.loads(render_json(rb.efficiency("rv80e", duty_cycle="robot-joint").to_dict()))
+    for k in ("efficiency_at_rated", "starting_torque_nm", "contacts_loop_friction_at_rated_nm", "elements"):
+        assert card[k] == theirs[k], k
+    assert card["thermal"]["steady_temperature_c"] == theirs["thermal"]["steady_temperature_c"]
+    bad = client.post("/api/efficiency", json={"design": "rv80e", "duty_cycle": "../etc/passwd"})
+    assert bad.status_code == 422 and bad.json()["field"] == "duty_cycle"

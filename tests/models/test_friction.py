@@ -110,3 +110,13 @@ def test_heat_flow_and_time_constant():
     assert fr.housing_heat_flow_w(60.0, 20.0, 0.1, 0.0, 0.0, 2.0) == pytest.approx(80.0)
     assert fr.lumped_time_constant_s(4600.0, 2.0) == pytest.approx(2300.0)
     assert fr.thermal_growth_um(100.0, 12e-6, 40.0) == pytest.approx(48.0)
+
+
+def test_a_published_worked_example_of_the_makers_estimate():
+    # U. C. Jindal, "Machine Design" (Pearson, 2010), Example 18-1, p. 507 (recomputed in the Python Textbook
+    # Companion, github.com/OJB-Quantum/Python-Textbook-Companions, Machine_Design_by_U.C._Jindal/Ch18_2.ipynb):
+    # a bearing of 40 mm bore under 16 kN radial, mu = 0.0011, at 1440 r/min: friction moment F r = 352 N mm,
+    # power lost 53.08 W. The makers' estimate M = mu P d / 2 gives the same.
+    m = fr.makers_friction_moment_nmm(0.0011, 16e3, 40.0)
+    assert m == pytest.approx(352.0, rel=1e-12)
+    assert m * 1e-3 * 2 * math.pi * 1440 / 60 == pytest.approx(53.08, abs=0.005)

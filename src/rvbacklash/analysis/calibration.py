@@ -8,6 +8,9 @@ the design stage cannot know:
   support bearings and the carrier (``elastic.structure_stiffness_nm_per_arcmin``: it replaces what
   [structure] derives) - the model's least certain element (docs/elastic.md);
 - ``friction_torque_nm`` T_f: the constant Coulomb friction at the output (``elastic.friction_torque_nm``);
+  with ``[elastic] friction_model = "contacts"`` instead ``static_friction_coefficient`` mu_s, the
+  friction model's uncertain coefficient ([lubrication]): the loop's friction T_0 + (mu_s a + b) |T|
+  (``models.elastic.twist_friction``; T_0 from the bearings and the seal, not fitted);
 - ``crank_clearance_offset_um`` dG: the crank needle bearings' radial clearance as assembled less
   its zone mean, one per unit (a batch's units differ by their clearances); the units' mean is
   the calibrated design's ``[factors.crank_bearing_clearance] mean_um``, their spread is compared
@@ -54,11 +57,13 @@ from rvbacklash.design.schema import Design
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.models.elastic import FALL, RISE, PreparedUnit, elastic_model, nominal_unit
+from rvbacklash.models.elastic.twist_friction import twist_friction
 from rvbacklash.problem import Problem, prepare
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
 
 PARAMETERS = ("structure_stiffness_nm_per_arcmin", "friction_torque_nm", "crank_clearance_offset_um")
+CONTACT_PARAMETERS = ("structure_stiffness_nm_per_arcmin", "static_friction_coefficient", "crank_clearance_offset_um")
 IDENTIFIABLE_CONDITION = 1e6  # of the Jacobian scaled to unit columns: beyond, a parameter is the others' combination
 MODEL_POINTS = 41  # loop nodes per branch the samples are interpolated on
 DENSE_NODES = np.linspace(0.0, 0.12, 21)[1:]  # and these fractions of T_R on every branch
@@ -148,6 +153,14 @@ class _Loops:
         base = problem.design.model_copy(update={"elastic": e.model_copy(update={
             "structure_stiffness_nm_per_arcmin": e.structure_stiffness_nm_per_arcmin or RIGID_NM_PER_ARCMIN})})
         self.model = elastic_model(prepare(base))  # the structure stated: what [structure] derives is replaced
+        self.problem = problem
+        self.contacts = e.friction_model == "contacts"
+        self._twist: dict = {}
+        self.names = CONTACT_PARAMETERS if self.contacts else PARAMETERS
+        if self.contacts and e.friction_load_fraction is not None:
+            raise InputError("elastic.friction_load_fraction", e.friction_load_fraction,
+                             "stated with friction_model = \"contacts\": the friction model's coefficient would not "
+                             "change the loop; allowed: leave it out (the model's), or friction_model = \"stated\"")
         self.unit = nominal_unit(problem)
         self.x = e.measuring_torque_fraction * e.rated_torque_nm
         self.fit_masks = []
@@ -179,8 +192,26 @@ class _Loops:
         self._cache[key] = out
         return out
 
+    def friction(self, k_s: float, p: float) -> tuple[float, float]:
+        """(T_f0 [N m], mu [-]) of the chain's Coulomb friction for the friction parameter p: the
+        constant T_f itself, or (contacts) the static coefficient through the twist friction's law of
+        the chain with the structure stiffness K_s (the pins' share of each twist depends on it)."""
+        c = self.model.chain
+        if not self.contacts:
+            return p, c.friction_fraction
+        key = float(k_s)
+        if key not in self._twist:
+            if len(self._twist) > 64:
+                self._twist.clear()
+            model = dataclasses.replace(self.model, chain=c._replace(
+                structure_stiffness_nm_per_rad=k_s * ARCMIN_PER_RAD))
+            self._twist[key] = twist_friction(self.problem, model)
+        return c.friction_nm, self._twist[key].load_fraction_for(p)
+
     def _prepared(self, k_s: float, t_f: float, dg: float):
-        c = self.model.chain._replace(structure_stiffness_nm_per_rad=k_s * ARCMIN_PER_RAD, friction_nm=t_f)
+        t0, lam = self.friction(k_s, t_f)
+        c = self.model.chain._replace(structure_stiffness_nm_per_rad=k_s * ARCMIN_PER_RAD, friction_nm=t0,
+                                      friction_fraction=lam)
         model = dataclasses.replace(self.model, chain=c)
         unit = self.unit._replace(crank_clearance_um=float(self.unit.crank_clearance_um + dg))
         pu = PreparedUnit(model, unit)
@@ -223,11 +254,12 @@ def _start(problem: Problem, fit: _Loops, loops: Sequence[BenchLoop]) -> np.ndar
 
     e = problem.design.elastic
     lo, hi = e.rigidity_interval_fraction
-    k_rest = rigidity_nm_per_arcmin(fit.branches(RIGID_NM_PER_ARCMIN, e.friction_torque_nm, 0.0), e.rated_torque_nm,
-                                    lo, hi)
+    friction = (max(problem.design.lubrication.static_friction_coefficient, 0.01) if fit.contacts
+                else max(e.stated_friction_nm, 1e-3 * e.rated_torque_nm))
+    k_rest = rigidity_nm_per_arcmin(fit.branches(RIGID_NM_PER_ARCMIN, friction, 0.0), e.rated_torque_nm, lo, hi)
     k_meas = float(np.mean([u.torsional_rigidity_nm_per_arcmin for u in loops]))
     k_s = 1.0 / (1.0 / k_meas - 1.0 / k_rest) if k_meas < 0.999 * k_rest else 100.0 * k_rest
-    return np.array([k_s, max(e.friction_torque_nm, 1e-3 * e.rated_torque_nm), 0.0])
+    return np.array([k_s, friction, 0.0])
 
 
 def _jacobian(fit: _Loops, x: np.ndarray, units: Sequence[int], upper: np.ndarray) -> np.ndarray:
@@ -308,7 +340,7 @@ def _misfit_flag(rms: float, expected: float, ratio: float, segments) -> str:
             f"which assume it does, are too narrow; the misfit sits on {where or 'the whole loop'}")
 
 
-def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources) -> tuple[list, list[str]]:
+def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources, names=PARAMETERS) -> tuple[list, list[str]]:
     """Which of K_s, T_f and the clearance offset (any unit's) the fit left at a bound: within a
     tenth of its standard error of it (or 1e-9 of the bound)."""
     m = len(sources)
@@ -324,6 +356,8 @@ def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources) -> tuple[list, 
             ("structure_stiffness_nm_per_arcmin", 1): "its upper bound {b:g} N m/arcmin (rigid)",
             ("friction_torque_nm", -1): "its lower bound {b:g} N m (no friction)",
             ("friction_torque_nm", 1): "its upper bound {b:g} N m",
+            ("static_friction_coefficient", -1): "its lower bound {b:g} (no friction on the pins and the mesh)",
+            ("static_friction_coefficient", 1): "its upper bound {b:g}",
             ("crank_clearance_offset_um", -1): "its lower bound {b:g} um (zero clearance)",
             ("crank_clearance_offset_um", 1): "its upper bound {b:g} um"}
     at = [None, None, None]
@@ -331,7 +365,7 @@ def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources) -> tuple[list, 
     for i in range(2 + m):
         if side[i] == 0:
             continue
-        p = PARAMETERS[min(i, 2)]
+        p = names[min(i, 2)]
         b = lo[i] if side[i] < 0 else hi[i]
         at[min(i, 2)] = at[min(i, 2)] or ("lower" if side[i] < 0 else "upper")
         unit = f" for {sources[i - 2]}" if i >= 2 else ""
@@ -365,8 +399,14 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
     start = _start(problem, fit, loops)
     nominal_g = float(fit.unit.crank_clearance_um)
     tr = e.rated_torque_nm
-    bounds = (np.array([1e-3 * start[0], 0.0, -nominal_g]),
-              np.array([RIGID_NM_PER_ARCMIN, 0.45 * tr * (1.0 - e.friction_load_fraction), 100.0]))
+    if fit.contacts:  # the coefficient: up to 1 (the schema's) or the friction fraction 0.45
+        tw = twist_friction(problem, fit.model)
+        top = (0.45 - tw.load_fraction_bearings) / tw.load_fraction_per_coefficient \
+            if tw.load_fraction_per_coefficient > 0 else 1.0
+        friction_top = float(min(1.0, top))
+    else:
+        friction_top = 0.45 * tr * (1.0 - e.stated_friction_fraction)
+    bounds = (np.array([1e-3 * start[0], 0.0, -nominal_g]), np.array([RIGID_NM_PER_ARCMIN, friction_top, 100.0]))
     all_units = list(range(len(loops)))
     sol = _solve(fit, start, all_units, bounds, max_evaluations)
     if sol.status <= 0 or not np.all(np.isfinite(sol.x)):
@@ -378,7 +418,7 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
     dof = max(sol.fun.size - sol.x.size, 1)
     s2 = float(sol.fun @ sol.fun) / dof
     norms = np.linalg.norm(jac, axis=0)
-    names = list(PARAMETERS[:2]) + [f"crank_clearance_offset_um ({src})" for src in sources]
+    names = list(fit.names[:2]) + [f"crank_clearance_offset_um ({src})" for src in sources]
     weakest, why = None, ""
     if not np.all(norms[:2 + m] > 0):
         weakest = names[int(np.argmin(norms[:2 + m]))]
@@ -393,7 +433,7 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
             why = f"the Jacobian's condition number {cond:.3g} > {IDENTIFIABLE_CONDITION:g}: it changes the loop as " \
                   f"the others do"
         elif sol.x[0] >= 0.5 * bounds[1][0] or sd_all[0] > 0.5 * sol.x[0]:
-            weakest = PARAMETERS[0]
+            weakest = fit.names[0]
             why = (f"the fit runs to {sol.x[0]:.3g} N m/arcmin with a standard error of {sd_all[0]:.3g}: the "
                    f"structure is stiffer than these loops resolve")
     if weakest is not None:
@@ -444,20 +484,21 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
         for k, v in bench.spread.items():
             spread[k] = {**v, "predicted_sigma": float(np.std(predicted[k])) if k in predicted else None}
     k_s, t_f, dg = (float(v) for v in values)
-    calibrated = calibrated_design(problem.design, k_s, t_f, nominal_g + dg, sources)
+    calibrated = calibrated_design(problem.design, k_s, t_f, nominal_g + dg, sources, fit.contacts)
     from rvbacklash.analysis.hysteresis import hysteresis
 
     before = hysteresis(problem)
     after = hysteresis(prepare(calibrated))
-    design_values = (e.structure_stiffness_nm_per_arcmin, e.friction_torque_nm, 0.0)
+    design_values = (e.structure_stiffness_nm_per_arcmin, problem.design.lubrication.static_friction_coefficient
+                     if fit.contacts else e.stated_friction_nm, 0.0)
     rms = float(math.sqrt(float(sol.fun @ sol.fun) / sol.fun.size))
     expected, ratio, segments = _fit_quality(fit, sol.x, sol.fun, tr)
     lack = bool(ratio > LACK_OF_FIT_RATIO)
-    at_bound, flags = _bound_flags(sol.x, sd_all, bounds, sources)
+    at_bound, flags = _bound_flags(sol.x, sd_all, bounds, sources, fit.names)
     if lack:
         flags.insert(0, _misfit_flag(rms, expected, ratio, segments))
     params = tuple(FittedParameter(n, dv, float(v), float(a), float(b), f, ab) for n, dv, v, (a, b), f, ab in
-                   zip(PARAMETERS, design_values, values, ci, ci_from, at_bound))
+                   zip(fit.names, design_values, values, ci, ci_from, at_bound))
     figs = ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin")
     fitted = int(sum(mask.sum() for mask in fit.fit_masks))
     return CalibrationResult(
@@ -473,13 +514,18 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
 
 
 def calibrated_design(design: Design, structure_stiffness_nm_per_arcmin: float, friction_torque_nm: float,
-                      crank_clearance_um: float, sources: Sequence[str]) -> Design:
-    """The design with the fitted values: the stated structure stiffness and friction in [elastic],
+                      crank_clearance_um: float, sources: Sequence[str], contacts: bool = False) -> Design:
+    """The design with the fitted values: the stated structure stiffness and friction in [elastic]
+    (``contacts``: ``friction_torque_nm`` is the fitted static coefficient, into [lubrication]),
     the crank bearings' clearance as the mean of its zone (the zone itself, from the grade or the
     file, kept: the tolerance is not what a bench measures)."""
     data = design.model_dump(exclude_none=True)
-    data["elastic"].update(structure_stiffness_nm_per_arcmin=float(structure_stiffness_nm_per_arcmin),
-                           friction_torque_nm=float(friction_torque_nm))
+    if contacts:
+        data["elastic"].update(structure_stiffness_nm_per_arcmin=float(structure_stiffness_nm_per_arcmin))
+        data.setdefault("lubrication", {})["static_friction_coefficient"] = float(friction_torque_nm)
+    else:
+        data["elastic"].update(structure_stiffness_nm_per_arcmin=float(structure_stiffness_nm_per_arcmin),
+                               friction_torque_nm=float(friction_torque_nm))
     factors = data.setdefault("factors", {})
     zone = dict(factors.get("crank_bearing_clearance") or {})
     if zone.get("distribution", "normal") not in ("normal", "truncated_normal"):
@@ -500,6 +546,8 @@ def calibration_header(result: CalibrationResult) -> str:
         where = {"structure_stiffness_nm_per_arcmin": "[elastic] structure_stiffness_nm_per_arcmin (replaces what "
                                                       "[structure] derives)",
                  "friction_torque_nm": "[elastic] friction_torque_nm",
+                 "static_friction_coefficient": "[lubrication] static_friction_coefficient (the loop's friction "
+                                                "from the contacts)",
                  "crank_clearance_offset_um": "[factors.crank_bearing_clearance] mean_um = zone mean + offset"}[p.name]
         lines.append(f"  {p.name} = {p.value:.6g} (95 %: {p.ci95_low:.6g} .. {p.ci95_high:.6g}, {p.ci_from}) "
                      f"-> {where}")

@@ -124,6 +124,9 @@ class HysteresisResult(Result):
     max_pin_force_at_rated_n: float
     friction_torque_nm: float
     friction_load_fraction: float
+    friction_model: str  # stated | contacts ([elastic] friction_model: the friction above from the contacts)
+    friction_at_rated_nm: float  # T_f0 + mu |T_el| at T_R on the loading branch: half the loop's torque width there
+    hysteresis_loss_j: float  # the loop's area, the energy one 0 -> +T_R -> 0 -> -T_R -> 0 cycle dissipates [J]
     contact_law: str
     lever_arms: str
     lever_factor: float
@@ -201,6 +204,16 @@ def build_loop(pu: PreparedUnit, points: int = DEFAULT_POINTS) -> tuple[tuple[Hy
     return tuple(branches), offset
 
 
+def loop_area_j(loop: Sequence[HysteresisBranch]) -> float:
+    """The area the loop's four branches enclose [J = N m rad]: the energy friction dissipates in one
+    cycle (the hysteresis loss), by the shoelace formula over the branches in running order (load+,
+    unload+, load-, unload-: a closed curve; the jumps through the dead bands are its vertical pieces).
+    Branches that coincide (no friction) enclose 0."""
+    t = np.concatenate([np.asarray(b.torque_nm, float) for b in loop])
+    a = np.concatenate([np.asarray(b.angle_arcmin, float) for b in loop]) / ARCMIN_PER_RAD
+    return float(abs(0.5 * np.sum(a * np.roll(t, -1) - np.roll(a, -1) * t)))
+
+
 def loop_figures_from_branches(loop: Sequence[Mapping], rated_torque_nm: float, measuring_fraction: float,
                                interval: Sequence[float]) -> dict[str, float]:
     """The three figures recomputed from a loop (e.g. the JSON's ``loop``) by the one reader of
@@ -249,7 +262,9 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         pins_in_contact_at_rated=tuple(int(n) for n in (pu.pin_closures_um(at_rated) > 0).sum(axis=1)),
         pins_in_contact_at_measuring=tuple(int(n) for n in (pu.pin_closures_um(at_x) > 0).sum(axis=1)),
         max_pin_force_at_rated_n=float(forces.max()), friction_torque_nm=c.friction_nm,
-        friction_load_fraction=c.friction_fraction, contact_law=e.contact_law, lever_arms=e.lever_arms,
+        friction_load_fraction=c.friction_fraction, friction_model=e.friction_model,
+        friction_at_rated_nm=float(tr - cm.elastic_torque_nm(tr, True, c.friction_nm, c.friction_fraction)),
+        hysteresis_loss_j=loop_area_j(loop), contact_law=e.contact_law, lever_arms=e.lever_arms,
         lever_factor=c.lever_factor, involute_stiffness_nm_per_arcmin=model.involute_stiffness_nm_per_arcmin,
         structure_stiffness_nm_per_arcmin=(model.structure_stiffness_nm_per_arcmin
                                            if math.isfinite(model.structure_stiffness_nm_per_arcmin) else None),

@@ -34,6 +34,7 @@ class ReportData(Result):
     transmission: object | None = None  # analysis.transmission.TransmissionSection
     capacity: object | None = None  # analysis.capacity.CapacityResult (issue 37)
     capacity_trade: object | None = None  # analysis.capacity.CapacityTrade: lost motion against life
+    efficiency: object | None = None  # analysis.losses.EfficiencyResult (issue 40): losses, efficiency, temperature
 
     @property
     def partial(self) -> bool:
@@ -120,7 +121,7 @@ class ReportData(Result):
                 "comparison": d(self.comparison), "contact_nominal": d(self.contact),
                 "sensitivity": d(self.sensitivity), "allocation": d(self.allocation), "elastic": d(self.elastic),
                 "sweep": d(self.sweep), "transmission": d(self.transmission), "capacity": d(self.capacity),
-                "capacity_trade": d(self.capacity_trade)}
+                "capacity_trade": d(self.capacity_trade), "efficiency": d(self.efficiency)}
 
     def rows(self) -> list[dict]:
         """The key numbers, each row marked ``partial`` when the report was interrupted."""
@@ -187,11 +188,11 @@ def build_report_data(problem: Problem, stackup: StackupResult, simulation: Simu
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
                       sweep=None, transmission=None, capacity=None,
-                      capacity_trade=None) -> ReportData:
+                      capacity_trade=None, efficiency=None) -> ReportData:
     warnings = validity_warnings(problem, stackup, simulation)
     if elastic is not None:  # the elastic section's nominal unit (also beside another model's run)
         warnings += tuple(f"elastic section: {w}" for w in elastic.nominal.warnings
                           if not any(w in x for x in warnings))
     return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact, warnings,
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
-                      elastic, sweep, transmission, capacity, capacity_trade)
+                      elastic, sweep, transmission, capacity, capacity_trade, efficiency)

@@ -188,6 +188,26 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
 
         return Response(await run(body, compute, pool="capacity"), media_type="application/json")
 
+    @endpoint({"duty_cycle"})
+    async def efficiency(body: dict) -> Response:
+        """The efficiency and temperature cards (docs/workbench.md): the edited design's efficiency datasheet
+        (``rvbacklash efficiency --json [--duty-cycle NAME]``) with a packaged duty cycle's thermal balance
+        (``duty_cycle``: its name, default robot-joint; "" none), cached by the design's text."""
+        cycle = body.get("duty_cycle", "robot-joint")
+        if not isinstance(cycle, str) or len(cycle) > 100 or "/" in cycle or "\\" in cycle:
+            raise InputError("duty_cycle", cycle, "allowed: the name of a packaged duty cycle, or \"\" for none")
+
+        def compute(job: Job) -> str:
+            item = design_of(body)
+            key = json.dumps(["efficiency", item.text, cycle])
+            cached = results.get(key)
+            if cached is None:
+                cached = render_json(api.efficiency(item.problem, duty_cycle=cycle or None).to_dict())
+                results.put(key, cached)
+            return cached
+
+        return Response(await run(body, compute, pool="capacity"), media_type="application/json")
+
     @endpoint({"samples", "seed"})
     async def elastic_section(body: dict) -> Response:
         n = samples(body, "elastic-section", "elastic", 2000, 20)
@@ -287,7 +307,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return FileResponse(plotly_js(), media_type="text/javascript")
 
     posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
-             "capacity": capacity,
+             "capacity": capacity, "efficiency": efficiency,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),

@@ -284,6 +284,12 @@ def report(
     workers: int = WORKERS_OPTION,
     capacity: bool = typer.Option(False, "--capacity", help="Add the capacity and life section (the nominal unit's "
                                                             "bearings, lives, derived ratings: docs/capacity.md)."),
+    efficiency: bool = typer.Option(False, "--efficiency", help="Add the losses, efficiency and temperature section "
+                                                                "(the nominal unit's datasheet: docs/efficiency.md)."),
+    duty_cycle: Optional[str] = typer.Option(None, "--duty-cycle", help="A duty cycle (CSV or TOML, as `efficiency`'s, "
+                                             "or a packaged cycle's name) for the section's thermal balance: the steady "
+                                             "case temperature and lost motion there (implies --efficiency).",
+                                             metavar="FILE"),
     json_out: Optional[str] = json_option("every number of the report"),
     csv_out: Optional[str] = csv_option("the key numbers"),
     fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
@@ -322,7 +328,7 @@ def report(
                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec,
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
-                               progress=progress, capacity=capacity)
+                               progress=progress, capacity=capacity, efficiency=efficiency, duty_cycle=duty_cycle)
     summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
                "key_numbers": data.key_numbers()}
     rows = data.rows()

@@ -61,11 +61,16 @@ def print_efficiency(r, console) -> None:
     console.print(f"starting (breakaway) torque at the input, no load: {r.starting_torque_nm:.4f} N m; starting "
                   f"efficiency at {r.rated_torque_nm:g} N m: {r.starting_efficiency:.1%}; back-driving torque at the "
                   f"output: {back}")
-    console.print(f"breakaway friction at the output: {r.breakaway_torque_at_output_nm:.2f} N m + "
-                  f"{r.breakaway_load_fraction:.3f} |T| (the hysteresis loop uses the stated "
-                  f"friction_torque_nm = {r.stated_friction_torque_nm:g} N m; not fed in)")
-    console.print("lost motion / backlash of the nominal unit by temperature (the parts' expansion): " + ", ".join(
-        f"{p.temperature_c:g} degC {p.lost_motion_arcmin:.3f} / {p.backlash_arcmin:.3f} arcmin"
+    console.print(f"breakaway friction at the output, running kinematics: {r.breakaway_torque_at_output_nm:.2f} N m "
+                  f"+ {r.breakaway_load_fraction:.3f} |T|; under the bench's twist (input locked): "
+                  f"{r.contacts_loop_friction_nm:.2f} N m + {r.contacts_loop_friction_load_fraction:.4f} |T| = "
+                  f"{r.contacts_loop_friction_at_rated_nm:.2f} N m at {r.rated_torque_nm:g} N m (the hysteresis loop "
+                  f"uses {r.loop_friction_model}: {r.stated_friction_torque_nm:.3g} N m + "
+                  f"{r.loop_friction_load_fraction:.4g} |T|)")
+    console.print("lost motion / backlash / rigidity of the nominal unit by temperature (the parts' expansion): "
+                  + ", ".join(
+        f"{p.temperature_c:g} degC {p.lost_motion_arcmin:.3f} / {p.backlash_arcmin:.3f} arcmin / "
+        f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin"
         for p in r.precision_by_temperature))
     run = r.production
     if run is not None:
@@ -98,7 +103,9 @@ def print_efficiency(r, console) -> None:
                       escape(f"moving-distance {p.clearance.moving_distance_modification_um:+.2f} um, equidistance "
                              f"{p.clearance.equidistance_modification_um:+.3f} um, pin holes "
                              f"{p.clearance.pin_hole_clearance_um:+.2f} um, crank bearings "
-                             f"{p.clearance.crank_bearing_clearance_um:+.2f} um"))
+                             f"{p.clearance.crank_bearing_clearance_um:+.2f} um, support bearings "
+                             f"{p.clearance.support_bearing_clearance_um:+.2f} um; rigidity "
+                             f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin"))
         console.print(u)
 
 

@@ -61,7 +61,9 @@ def print_hysteresis(result, console) -> None:
         structure = "rigid (no [structure] table: the rigidity is an upper bound)"
     console.print(f"[dim]{escape(r.contact_law)} contacts, lever factor {r.lever_factor:.4f} ({escape(r.lever_arms)}), "
                   f"involute mesh {r.involute_stiffness_nm_per_arcmin:.3g} N m/arcmin, structure {escape(structure)}, friction "
-                  f"{r.friction_torque_nm:g} N m + {r.friction_load_fraction:g} |T|; crank clearance "
+                  f"{r.friction_torque_nm:.4g} N m + {r.friction_load_fraction:.4g} |T| ({escape(r.friction_model)}; "
+                  f"{r.friction_at_rated_nm:.3g} N m at T_R, hysteresis loss {r.hysteresis_loss_j:.4g} J per cycle); "
+                  f"crank clearance "
                   f"{r.crank_clearance_um:.2f} um, involute backlash {r.involute_backlash_arcmin:.4f} arcmin[/]")
     for w in r.warnings:
         console.print(f"[bold red]warning:[/] {escape(w)}")

@@ -115,11 +115,17 @@ class ElasticInputs(_Strict):
                                         "bearings, carrier, housing) [N m/arcmin]; replaces what [structure] derives; "
                                         "default: derived from [structure], rigid without it")
 
-    friction_torque_nm: float = Field(
-        0.0, ge=0, le=1e6, description="Coulomb friction torque at the output, constant part T_f0 [N m]")
-    friction_load_fraction: float = Field(
-        0.0, ge=0, lt=0.5, description="Coulomb friction torque proportional to the transmitted torque, "
-                                       "T_f = T_f0 + mu |T| [-]")
+    friction_torque_nm: float | None = Field(
+        None, ge=0, le=1e6, description="Coulomb friction torque at the output, constant part T_f0 [N m]; not "
+                                        "stated: 0, or the contacts' (friction_model)")
+    friction_load_fraction: float | None = Field(
+        None, ge=0, lt=0.5, description="Coulomb friction torque proportional to the transmitted torque, "
+                                        "T_f = T_f0 + mu |T| [-]; not stated: 0, or the contacts' (friction_model)")
+    friction_model: Literal["stated", "contacts"] = Field(
+        "stated", description="where the loop's Coulomb friction comes from: stated (friction_torque_nm and "
+                              "friction_load_fraction as given) or contacts (T_f0 and mu from the contacts' friction "
+                              "under the twist: the pins, bearings, mesh and seal with [lubrication]'s coefficients; "
+                              "a friction_torque_nm or friction_load_fraction stated here wins; docs/efficiency.md)")
 
     @model_validator(mode="after")
     def _consistent(self) -> "ElasticInputs":
@@ -129,12 +135,22 @@ class ElasticInputs(_Strict):
         if not 0.0 <= low < high <= 1.0:
             raise ValueError(f"rigidity_interval_fraction = [{low}, {high}]: allowed 0 <= low < high <= 1 "
                              f"(fractions of rated_torque_nm)")
-        limit = self.rated_torque_nm * (1.0 - self.friction_load_fraction)
-        if not self.friction_torque_nm < limit:
+        limit = self.rated_torque_nm * (1.0 - self.stated_friction_fraction)
+        if not self.stated_friction_nm < limit:
             raise ValueError(f"friction_torque_nm = {self.friction_torque_nm}: friction this large never lets the "
                              f"output move; allowed friction_torque_nm < rated_torque_nm (1 - friction_load_fraction)"
                              f" = {limit:g}")
         return self
+
+    @property
+    def stated_friction_nm(self) -> float:
+        """friction_torque_nm as stated (0 when not)."""
+        return self.friction_torque_nm or 0.0
+
+    @property
+    def stated_friction_fraction(self) -> float:
+        """friction_load_fraction as stated (0 when not)."""
+        return self.friction_load_fraction or 0.0
 
 
 def check_profile(prefix: str, profile: str, crown_drop_um: float | None, log_scale_um: float | None) -> None:

@@ -10,8 +10,13 @@ moments [N mm] (Palmgren's units) or [N m] as named, viscosity kinematic [mm^2/s
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from rvbacklash.problem import Problem
 
 STEFAN_BOLTZMANN_W_PER_M2K4 = 5.670374419e-8  # CODATA 2018 (exact from the SI's 2019 definition)
 KELVIN_OFFSET = 273.15
@@ -162,6 +167,22 @@ def ball_static_rating_n(balls: int, ball_diameter_mm: float, contact_angle_deg:
     return f0 * balls * ball_diameter_mm ** 2 * math.cos(math.radians(contact_angle_deg))
 
 
+MAIN_BEARING_STATIC_AXIAL_FACTOR = 0.26  # ISO 76 Y0 of a single-row angular contact ball bearing at 40 deg
+#                                          (X0 = 0.5): P0 = 0.5 F_r + 0.26 F_a, at least F_r
+
+
+def preloaded_pair_load_moment_nmm(balls: int, ball_diameter_mm: float, pitch_diameter_mm: float,
+                                   contact_angle_deg: float, preload_n: float, f1_scale: float = 0.001) -> float:
+    """The load-dependent (Palmgren) moment of ONE row of a preloaded angular contact ball pair under a
+    pure torque (no external load: each row carries the axial preload) [N mm]: M1 = f1 F_beta dm with
+    F_beta = ``angular_ball_load_n``(preload, 0), f1 = z (P0 / C0)^0.33 (``angular_ball_f1``, z =
+    ``f1_scale``, Palmgren's 0.001), P0 = Y0 F_a (ISO 76: Y0 = 0.26 at 40 deg), C0 by ISO 76
+    (``ball_static_rating_n``). At standstill it is the row's breakaway moment."""
+    c0 = ball_static_rating_n(balls, ball_diameter_mm, contact_angle_deg)
+    f1 = f1_scale / 0.001 * angular_ball_f1(MAIN_BEARING_STATIC_AXIAL_FACTOR * preload_n, c0)
+    return palmgren_load_moment_nmm(f1, angular_ball_load_n(preload_n, 0.0), pitch_diameter_mm)
+
+
 # --- the involute mesh (ISO/TR 14179-2) ----------------------------------------------------------
 
 def gear_loss_factor(gear_ratio: float, pinion_teeth: float, base_helix_rad: float, contact_ratio: float,
@@ -200,6 +221,34 @@ def mesh_power_loss_w(mesh_power_w: float, friction_coefficient: float, loss_fac
     """Load-dependent mesh power loss P_VZP = P mu_mZ H_V [W] (ISO/TR 14179-2:2001; P the power the
     mesh transmits in the frame where its axes stand still)."""
     return abs(mesh_power_w) * friction_coefficient * loss_factor
+
+
+@dataclass(frozen=True)
+class MeshGeometry:
+    """The first stage's mesh as ISO/TR 14179-2 reads it."""
+
+    loss_factor: float  # H_V
+    pitch_radius_mm: float  # the centre gear's
+    relative_radius_mm: float  # at the pitch point
+    pressure_angle_rad: float
+    face_width_mm: float
+
+
+def mesh_geometry(problem: Problem) -> MeshGeometry:
+    """H_V and the pitch point's radii of the centre gear / planet mesh (standard addendum m, no
+    profile shift, spur: the design's first stage)."""
+    s1 = problem.design.first_stage
+    alpha = math.radians(s1.pressure_angle_deg)
+    m = s1.module_mm
+    r1, r2 = m * s1.centre_gear_teeth / 2.0, m * s1.planet_teeth / 2.0
+    pb = math.pi * m * math.cos(alpha)
+
+    def addendum_ratio(r: float) -> float:
+        return (math.sqrt((r + m) ** 2 - (r * math.cos(alpha)) ** 2) - r * math.sin(alpha)) / pb
+
+    e1, e2 = addendum_ratio(r1), addendum_ratio(r2)
+    hv = gear_loss_factor(s1.planet_teeth / s1.centre_gear_teeth, s1.centre_gear_teeth, 0.0, e1 + e2, e1, e2)
+    return MeshGeometry(hv, r1, r1 * r2 * math.sin(alpha) / (r1 + r2), alpha, s1.face_width_mm)
 
 
 # --- the pins ------------------------------------------------------------------------------------

@@ -40,6 +40,10 @@ def render_html(data: ReportData) -> str:
         extra.update(capacity=data.capacity, capacity_figure=plots.inline_svg(loads_svg(data.capacity)))
         if data.capacity_trade is not None:
             extra.update(trade=data.capacity_trade, trade_figure=plots.inline_svg(trade_svg(data.capacity_trade)))
+    if data.efficiency is not None:
+        from rvbacklash.report.efficiency_plots import efficiency_svg
+
+        extra.update(efficiency=data.efficiency, efficiency_figure=plots.inline_svg(efficiency_svg(data.efficiency)))
     head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),
             "model_name": headline.model_name(data.model)}
     return env.get_template("report.html.j2").render(

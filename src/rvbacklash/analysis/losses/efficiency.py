@@ -21,6 +21,7 @@ from rvbacklash.analysis.losses.thermal import (PrecisionAtTemperature, ThermalR
 from rvbacklash.design.lubrication import LubricationInputs
 from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model, nominal_realization, other_stages_nominal
+from rvbacklash.models.elastic.twist_friction import twist_friction
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 
@@ -124,12 +125,19 @@ class EfficiencyResult(Result):
     back_driving_torque_nm: float  # at the output, input free; inf: self-locking
     breakaway_torque_at_output_nm: float  # T_0 of the Coulomb friction T_0 + lambda |T| at the output (not fed in)
     breakaway_load_fraction: float  # lambda
-    stated_friction_torque_nm: float  # [elastic] friction_torque_nm: what the hysteresis loop uses
+    stated_friction_torque_nm: float  # T_f0 the hysteresis loop uses ([elastic] friction_torque_nm, or the contacts')
     precision_by_temperature: tuple[PrecisionAtTemperature, ...]  # lost motion and backlash at each temperature
     assumptions: tuple[str, ...]
     thermal: ThermalResult | None = None  # with a duty cycle: its heat balance (analysis/losses/thermal.py)
     production: EfficiencyRun | None = None  # with units: their efficiencies (analysis/losses/production.py)
     _breakdown: LossBreakdown | None = field(default=None, metadata={EXPORT: False})
+    # the loop's friction from the contacts under the twist (input locked, quasi-static;
+    # models/elastic/twist_friction.py): T_0 + lambda |T|, whether or not the loop uses it
+    loop_friction_model: str = "stated"  # [elastic] friction_model: what the hysteresis loop uses
+    loop_friction_load_fraction: float = 0.0  # the lambda the hysteresis loop uses
+    contacts_loop_friction_nm: float = math.nan  # T_0
+    contacts_loop_friction_load_fraction: float = math.nan  # lambda
+    contacts_loop_friction_at_rated_nm: float = math.nan  # T_0 + lambda T_R
 
     def summary(self) -> list[str]:
         return [f"{self.design_name}: efficiency {self.efficiency_at_rated:.1%} at {self.rated_torque_nm:g} N m, "
@@ -260,6 +268,7 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
         thermal = thermal_balance(lm, duty_cycle)
         tick()
     nu = fr.kinematic_viscosity_mm2_s(temp, lube.viscosity_40c_mm2_s, lube.viscosity_100c_mm2_s)
+    twist = lm.model.twist_friction or twist_friction(problem, lm.model)
     assumptions = (
         "nominal unit; loads from the elastic chain at the output torque over one crank revolution (friction does not "
         "feed back into the loads)",
@@ -278,4 +287,6 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
                             rated.output_power_w, rated.pin_film_parameter, rated.pin_friction_coefficient,
                             rated.mesh_friction_coefficient, _elements(rated), tuple(grid), by_temp, no_load, start,
                             float(start_loaded.efficiency), back, t0, lam,
-                            problem.design.elastic.friction_torque_nm, precision, assumptions, thermal, None, rated)
+                            lm.model.chain.friction_nm, precision, assumptions, thermal, None, rated,
+                            problem.design.elastic.friction_model, lm.model.chain.friction_fraction,
+                            twist.constant_nm, twist.load_fraction, twist.torque_at_nm(t_r))

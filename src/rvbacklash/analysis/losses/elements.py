@@ -28,12 +28,11 @@ from rvbacklash.analysis.capacity.revolution import RevolutionLoads
 from rvbacklash.design.lubrication import LubricationInputs
 from rvbacklash.models import friction as fr
 from rvbacklash.models.elastic.loads import pin_relative_radius_mm
+from rvbacklash.models.friction import MeshGeometry, mesh_geometry
 from rvbacklash.problem import Problem
 
 ELEMENTS = ("pins on flanks", "pins in seats", "crank needle bearings", "crank support bearings", "main bearings",
             "involute mesh", "output seal", "input seal and churning")
-MAIN_BEARING_STATIC_AXIAL_FACTOR = 0.26  # ISO 76 Y0 of a single-row angular contact ball bearing at 40 deg
-#                                          (X0 = 0.5): P0 = 0.5 F_r + 0.26 F_a, at least F_r
 
 
 @dataclass(frozen=True)
@@ -52,34 +51,6 @@ def speeds(problem: Problem, output_speed_rpm: float) -> Speeds:
     w = abs(output_speed_rpm) * 2.0 * math.pi / 60.0
     ratio = problem.geometry.ratio
     return Speeds(w, ratio * w, s2.pins * w, s2.pins * s1.planet_teeth / s1.centre_gear_teeth * w)
-
-
-@dataclass(frozen=True)
-class MeshGeometry:
-    """The first stage's mesh as ISO/TR 14179-2 reads it."""
-
-    loss_factor: float  # H_V
-    pitch_radius_mm: float  # the centre gear's
-    relative_radius_mm: float  # at the pitch point
-    pressure_angle_rad: float
-    face_width_mm: float
-
-
-def mesh_geometry(problem: Problem) -> MeshGeometry:
-    """H_V and the pitch point's radii of the centre gear / planet mesh (standard addendum m, no
-    profile shift, spur: the design's first stage)."""
-    s1 = problem.design.first_stage
-    alpha = math.radians(s1.pressure_angle_deg)
-    m = s1.module_mm
-    r1, r2 = m * s1.centre_gear_teeth / 2.0, m * s1.planet_teeth / 2.0
-    pb = math.pi * m * math.cos(alpha)
-
-    def addendum_ratio(r: float) -> float:
-        return (math.sqrt((r + m) ** 2 - (r * math.cos(alpha)) ** 2) - r * math.sin(alpha)) / pb
-
-    e1, e2 = addendum_ratio(r1), addendum_ratio(r2)
-    hv = fr.gear_loss_factor(s1.planet_teeth / s1.centre_gear_teeth, s1.centre_gear_teeth, 0.0, e1 + e2, e1, e2)
-    return MeshGeometry(hv, r1, r1 * r2 * math.sin(alpha) / (r1 + r2), alpha, s1.face_width_mm)
 
 
 @dataclass(frozen=True)
@@ -234,9 +205,7 @@ def element_losses(ctx: LossContext, loads: RevolutionLoads, output_speed_rpm: f
     main_w = main_w1 = 0.0
     if ctx.main is not None:
         balls, dw, dpw, alpha, preload = ctx.main
-        c0 = fr.ball_static_rating_n(balls, dw, alpha)
-        f1 = lube.main_bearing_f1_scale / 0.001 * fr.angular_ball_f1(MAIN_BEARING_STATIC_AXIAL_FACTOR * preload, c0)
-        m1 = fr.palmgren_load_moment_nmm(f1, fr.angular_ball_load_n(preload, 0.0), dpw)
+        m1 = fr.preloaded_pair_load_moment_nmm(balls, dw, dpw, alpha, preload, lube.main_bearing_f1_scale)
         m0 = 0.0 if static else fr.palmgren_viscous_moment_nmm(lube.main_bearing_f0, nu, n_out, dpw)
         main_w1 = 2.0 * m1 * 1e-3 * sp.output_rad_s
         main_w = main_w1 + 2.0 * m0 * 1e-3 * sp.output_rad_s

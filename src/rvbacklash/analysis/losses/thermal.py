@@ -19,11 +19,17 @@ disc; the pin circle grows with the housing, the pins with theirs. Against the d
 growth is a moving-distance modification of r_p (alpha_d - alpha_h) dT (positive: less clearance),
 the pins' an equidistance modification r_rp (alpha_d - alpha_p) dT (positive: more clearance), the
 pins in their housing holes' diametral clearance 2 r_rp (alpha_h - alpha_p) dT and the crank needle
-bearings' clearance (alpha_d D_bore - alpha_c d_e - 2 alpha_n D_w) dT. Equal coefficients leave
-every clearance as it was (to rounding: the clearances themselves scale by 1 + alpha dT; tested).
-Not followed: the eccentricity's and the crank circle's mismatch (they would move the cranks'
-phases against the disc's bores), the involute stage's centre distance, the bearings' preloads, the
-rigidity and TE at temperature.
+bearings' clearance (alpha_d D_bore - alpha_c d_e - 2 alpha_n D_w) dT, and (with [structure]) the
+crank support bearings' radial clearance (alpha_carrier D_o - alpha_c d_i - 2 alpha_n D_w) dT, D_o and
+d_i their outer and inner raceways (d_m +- D_w; the outer ring press-fitted follows the carrier's seat,
+the rollers are the needles' steel): negative, a preload, when the steel journal and rollers outgrow
+the iron carrier. The nominal unit's lost motion, backlash and rigidity at the temperature follow from
+these clearances (rigidity: the support bearings' preload and the crank bearings' load zone). Equal
+coefficients leave every clearance as it was (to rounding: the clearances themselves scale by
+1 + alpha dT; tested). Not followed: the eccentricity's and the crank circle's mismatch (they would move
+the cranks' phases against the disc's bores), the involute stage's centre distance, the support pairs'
+axial clearance along the crank's span (the arrangement, X or O, is not in the design: rv80e's 45 mm
+span and 1.5e-6 /K between crank and carrier give 2.7 um axially at 60 degC), the TE at temperature.
 """
 
 from __future__ import annotations
@@ -50,6 +56,7 @@ class ClearanceChange(Result):
     equidistance_modification_um: float  # added to the design's (positive: more clearance)
     pin_hole_clearance_um: float  # added to the zone mean (diametral)
     crank_bearing_clearance_um: float  # added to the zone mean
+    support_bearing_clearance_um: float = 0.0  # added to the support bearings' (diametral; negative: a preload)
 
 
 def clearance_change(problem: Problem, thermal: ThermalInputs, temperature_c: float) -> ClearanceChange:
@@ -69,29 +76,41 @@ def clearance_change(problem: Problem, thermal: ThermalInputs, temperature_c: fl
         d_w = e.crank_bearing_roller_diameter_mm
         crank = (fr.thermal_growth_um(d_e + 2.0 * d_w, a_d, dt) - fr.thermal_growth_um(d_e, a_c, dt)
                  - fr.thermal_growth_um(2.0 * d_w, a_n, dt))
+    support = 0.0
+    st = d.structure
+    if st is not None:
+        dm = st.support_bearing_pitch_diameter_mm or (
+            0.5 * (st.crankshaft_diameter_mm + st.support_bearing_seat_diameter_mm)
+            if st.support_bearing_seat_diameter_mm is not None else None)
+        if dm is not None:
+            d_w = st.support_bearing_roller_diameter_mm
+            support = (fr.thermal_growth_um(dm + d_w, thermal.carrier_expansion_per_k, dt)
+                       - fr.thermal_growth_um(dm - d_w, a_c, dt) - fr.thermal_growth_um(2.0 * d_w, a_n, dt))
     # the designed modifications themselves grow with the disc (equal coefficients: a uniform scaling)
     moving += s2.moving_distance_modification_um * a_d * dt
     equidistance += s2.equidistance_modification_um * a_d * dt
-    return ClearanceChange(float(temperature_c), moving, equidistance, pin_hole, crank)
+    return ClearanceChange(float(temperature_c), moving, equidistance, pin_hole, crank, support)
 
 
 @dataclass(frozen=True, repr=False)
 class PrecisionAtTemperature(Result):
-    """The nominal unit's lost motion and backlash at a temperature (elastic model)."""
+    """The nominal unit's lost motion, backlash and rigidity at a temperature (elastic model)."""
 
     temperature_c: float
     lost_motion_arcmin: float
     backlash_arcmin: float
     clearance: ClearanceChange
+    torsional_rigidity_nm_per_arcmin: float = float("nan")
 
 
 def precision_at_temperature(problem: Problem, model, thermal: ThermalInputs, temperature_c: float
                              ) -> PrecisionAtTemperature:
-    """Lost motion and backlash of the nominal unit with its clearances at a temperature (its loop by the
-    elastic model: ``PreparedUnit.figures``)."""
+    """Lost motion, backlash and rigidity of the nominal unit with its clearances at a temperature (its loop
+    by the elastic model: ``PreparedUnit.figures``; the support bearings' clearance change in its chain)."""
+    from dataclasses import replace
     from rvbacklash.factors.catalog import FACTOR_KEYS
     from rvbacklash.models.elastic import other_stages_nominal
-    from rvbacklash.models.elastic.chain import BACKLASH, LOST_MOTION
+    from rvbacklash.models.elastic.chain import BACKLASH, LOST_MOTION, RIGIDITY
     from rvbacklash.models.elastic.unit import PreparedUnit, unit_from_realization
     from rvbacklash.models.unit_errors import Realization
 
@@ -102,8 +121,12 @@ def precision_at_temperature(problem: Problem, model, thermal: ThermalInputs, te
                             s2.moving_distance_modification_um + c.moving_distance_modification_um, pin_hole, 0.0)
     inv, clr = other_stages_nominal(problem)
     unit = unit_from_realization(problem, r, inv, clr + c.crank_bearing_clearance_um)
+    if c.support_bearing_clearance_um != 0.0 and model.chain.support_rollers > 0:
+        model = replace(model, chain=model.chain._replace(
+            support_clearance_um=model.chain.support_clearance_um + c.support_bearing_clearance_um))
     fig = PreparedUnit(model, unit).figures()
-    return PrecisionAtTemperature(float(temperature_c), float(fig[LOST_MOTION]), float(fig[BACKLASH]), c)
+    return PrecisionAtTemperature(float(temperature_c), float(fig[LOST_MOTION]), float(fig[BACKLASH]), c,
+                                  float(fig[RIGIDITY]))
 
 
 @dataclass(frozen=True, repr=False)

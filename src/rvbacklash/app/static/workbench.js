@@ -435,7 +435,69 @@ async function secondary(id) {
       document.body.dataset.capacityShown = String(id);
     }).then(() => { if (id === state.seq && $("#capacity-error").textContent) $("#capacity-status").textContent = ""; });
   }
+  // the efficiency and temperature cards: designs with [elastic] (the packaged robot-joint cycle's heat balance)
+  $("#efficiency-section").hidden = m !== "elastic";
+  if (m === "elastic") {
+    $("#efficiency-status").textContent = "computing…";
+    figure("/api/efficiency", { duty_cycle: "robot-joint" }, "#efficiency-error", (data) => {
+      $("#efficiency-status").textContent = "";
+      renderEfficiency(data);
+      document.body.dataset.efficiencyShown = String(id);
+    }).then(() => { if (id === state.seq && $("#efficiency-error").textContent) $("#efficiency-status").textContent = ""; });
+  }
   if (m === "transmission") figure("/api/transmission-error", {}, "#te-error", renderTe);
+}
+
+// the efficiency card and the temperature card: `rvbacklash efficiency --json --duty-cycle robot-joint` of the
+// edited design (docs/efficiency.md)
+function renderEfficiency(e) {
+  const list = () => {
+    const dl = el("dl");
+    const item = (text, key, value, shown, note) => {
+      dl.append(el("dt", { text }));
+      const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
+      if (note) dd.append(el("span", { class: "ci", text: " " + note }));
+      dl.append(dd);
+    };
+    return [dl, item];
+  };
+  const [dl, item] = list();
+  const n0 = e.no_load_running_torque[0];
+  const back = e.back_driving_torque_nm;
+  item("total loss [W]", "efficiency.total_loss_at_rated_w", e.total_loss_at_rated_w, fmt(e.total_loss_at_rated_w, 1),
+       `of ${fmt(e.output_power_at_rated_w, 0)} W out; largest: ${e.elements.reduce((a, b) => (b.loss_w > a.loss_w ? b : a)).element}`);
+  item(`no-load running torque [N·m]`, "efficiency.no_load_running_torque.0.no_load_torque_nm", n0.no_load_torque_nm,
+       fmt(n0.no_load_torque_nm, 3), `(input, ${n0.input_speed_rpm} r/min, ${n0.temperature_c} °C)`);
+  item("starting torque [N·m]", "efficiency.starting_torque_nm", e.starting_torque_nm, fmt(e.starting_torque_nm, 4),
+       `(input, no load; starting efficiency ${pct(e.starting_efficiency)})`);
+  item("back-driving torque [N·m]", "efficiency.back_driving_torque_nm", back,
+       (back === null || back === undefined || !Number.isFinite(Number(back))) ? "self-locking" : fmt(back, 2), "(output)");
+  item("loop friction at T_R [N·m]", "efficiency.contacts_loop_friction_at_rated_nm", e.contacts_loop_friction_at_rated_nm,
+       fmt(e.contacts_loop_friction_at_rated_nm, 2),
+       `(from the contacts under the twist; the loop uses ${e.loop_friction_model}: ${fmt(e.stated_friction_torque_nm, 3)} N·m + ${fmt(e.loop_friction_load_fraction, 4)} |T|)`);
+  $("#efficiency-card").replaceChildren(
+    el("h3", { text: `${e.design_name}: efficiency`, title: "rvbacklash efficiency (docs/efficiency.md), the edited design" }),
+    el("div", {}, el("span", { class: "big", "data-key": "efficiency.efficiency_at_rated", "data-value": String(e.efficiency_at_rated),
+                               text: pct(e.efficiency_at_rated) }),
+       el("span", { class: "ci", text: ` at ${e.rated_torque_nm} N·m, ${e.rated_output_speed_rpm} r/min, ${e.temperature_c} °C` })), dl,
+    el("div", { class: "note", text: `${e.crank_angles} crank angles; the command line: rvbacklash efficiency` }));
+  const th = e.thermal;
+  if (!th) { $("#temperature-card").replaceChildren(el("div", { class: "note", text: "no duty cycle" })); return; }
+  const [tl, titem] = list();
+  const hot = th.precision[th.precision.length - 1], cold = th.precision[0];
+  titem("time constant [min]", "efficiency.thermal.time_constant_min", th.time_constant_min, fmt(th.time_constant_min, 0));
+  titem(`allowable duty at ${th.case_limit_c} °C`, "efficiency.thermal.allowable_duty_at_limit", th.allowable_duty_at_limit,
+        pct(th.allowable_duty_at_limit));
+  titem(`lost motion at ${fmt(hot.temperature_c, 1)} °C [arcmin]`, `efficiency.thermal.precision.${th.precision.length - 1}.lost_motion_arcmin`,
+        hot.lost_motion_arcmin, fmt(hot.lost_motion_arcmin, 3), `(${fmt(cold.lost_motion_arcmin, 3)} at ${cold.temperature_c} °C)`);
+  titem(`backlash at ${fmt(hot.temperature_c, 1)} °C [arcmin]`, `efficiency.thermal.precision.${th.precision.length - 1}.backlash_arcmin`,
+        hot.backlash_arcmin, fmt(hot.backlash_arcmin, 3), `(${fmt(cold.backlash_arcmin, 3)} at ${cold.temperature_c} °C)`);
+  $("#temperature-card").replaceChildren(
+    el("h3", { text: `steady case temperature: ${th.duty_cycle}`, title: "the duty cycle's heat balance (docs/efficiency.md)" }),
+    el("div", {}, el("span", { class: "big", "data-key": "efficiency.thermal.steady_temperature_c",
+                               "data-value": String(th.steady_temperature_c), text: `${fmt(th.steady_temperature_c, 1)} °C` }),
+       el("span", { class: "ci", text: ` (${fmt(th.loss_at_steady_w, 1)} W, ambient ${th.ambient_c} °C${th.steady_temperature_c > th.case_limit_c ? "; above the case limit" : ""})` })),
+    tl, el("div", { class: "note", text: "the command line: rvbacklash efficiency --duty-cycle " + th.duty_cycle }));
 }
 
 // --- on demand: Sobol, allocation, report; progress and cancel ---------------------------------

@@ -47,8 +47,17 @@ def disc_load_n(model: ElasticModel, unit: ElasticUnit) -> np.ndarray:
 
 def elastic_model(problem: Problem) -> ElasticModel:
     """The design's elastic model: the closed-form chain (``chain.closed_form_model``) with the
-    discs' bodies and the carrier by FE where ``[structure]`` gives their dimensions."""
-    model = closed_form_model(problem)
+    discs' bodies and the carrier by FE where ``[structure]`` gives their dimensions, and with
+    ``friction_model = "contacts"`` the loop's friction from the contacts (``twist_friction``)."""
+    model = _with_bodies(problem, closed_form_model(problem))
+    if model.inputs.friction_model == "contacts":
+        from rvbacklash.models.elastic.twist_friction import with_twist_friction
+        model = with_twist_friction(problem, model)
+    return model
+
+
+def _with_bodies(problem: Problem, model: ElasticModel) -> ElasticModel:
+    """The closed-form model with the discs' bodies and the carrier by FE where [structure] gives them."""
     st = model.structure
     if st is None:
         return model

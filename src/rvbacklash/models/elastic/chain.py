@@ -152,6 +152,7 @@ class ElasticModel:
     carrier_body: Any = None  # mechanics.carrier_body.CarrierBodyResult: the carrier by FE (None: pillars)
     needle_fit: RollerLawFit | None = None  # profiled needle rollers: their sliced law's fit (None: straight)
     support_roller: SlicedRoller = STRAIGHT  # the support bearings' rollers by slices (STRAIGHT: Palmgren's law)
+    twist_friction: Any = None  # twist_friction.TwistFriction: the loop's friction from the contacts (None: stated)
 
     @property
     def lever_factor(self) -> float:
@@ -242,7 +243,7 @@ def closed_form_model(problem: Problem) -> ElasticModel:
         roller_a=roller_a, roller_b=roller_b, rollers_symmetric=e.crank_bearing_rollers % 2 == 0,
         rated_torque_nm=e.rated_torque_nm,
         measuring_fraction=e.measuring_torque_fraction, rigidity_low=float(low), rigidity_high=float(high),
-        friction_nm=e.friction_torque_nm, friction_fraction=e.friction_load_fraction,
+        friction_nm=e.stated_friction_nm, friction_fraction=e.stated_friction_fraction,
         translation_factor=1.0, radial_stiffness_n_per_um=math.inf, crank_compliance_rad_per_nm=0.0,
         carrier_compliance_rad_per_nm=0.0, main_bearing_compliance_rad_per_nm=c_main, support_rollers=0,
         support_cos_alpha=1.0, support_clearance_um=0.0, support_a=1.0, support_symmetric=False,
