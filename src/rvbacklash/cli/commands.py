@@ -75,9 +75,11 @@ def simulate(
                                                     "largest pin stress beside its precision figures (--model elastic; "
                                                     "implied by a life spec)."),
     select: Optional[str] = typer.Option(
-        None, "--select", help="Selective assembly beside random assembly (--model elastic): pins and needle "
-                               "rollers from diameter classes per unit, e.g. pins=5x2um,rollers=3x2um[,noise=0.5um]"
-                               "[,play=[MIN:]MAX][,target=ARCMIN] (docs/selective-assembly.md)."),
+        None, "--select", help="Selective assembly beside random assembly (--model elastic, contact or "
+                               "transmission): pins and needle rollers from diameter classes per unit, e.g. "
+                               "pins=5x2um,rollers=3x2um[,noise=0.5um][,play=[MIN:]MAX][,target=ARCMIN], or class "
+                               "boundaries pins=-4,-2,0,2,4um; replaces the design's [selection] table; none: "
+                               "random assembly (docs/selective-assembly.md)."),
     json_out: Optional[str] = json_option(),
     csv_out: Optional[str] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
@@ -100,11 +102,14 @@ def simulate(
     if save_units is not None and n_save < 1:
         raise InputError("--save-units", n_save, "allowed: N >= 1 units to write to FILE")
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, save_units=save_path)
-    if select is not None:
-        _simulate_selected(design, select, out, n, seed, spec_arcmin, quantile, threads, model, error_model, n_save,
-                           specs, life)
-        return
     problem = api.prepare(design)
+    from rvbacklash.analysis.selection.classes import resolve_selection
+
+    selection = resolve_selection(select, problem.design)
+    if selection is not None:
+        _simulate_selected(problem, design, selection, out, n, seed, spec_arcmin, quantile, threads, model,
+                           error_model, n_save, specs, life)
+        return
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         result = api.simulate(problem, samples=n if n is not None else 1, seed=seed, method=method,
                               spec_arcmin=spec_arcmin, quantiles=quantile, workers=threads, model=model,
@@ -125,26 +130,25 @@ def simulate(
         raise typer.Exit(130)
 
 
-def _simulate_selected(design, select, out, n, seed, spec_arcmin, quantile, threads, model, error_model, n_save,
-                       specs, life) -> None:
-    """``simulate --select``: the run with random and with selective assembly (same units)."""
+def _simulate_selected(problem, design, selection, out, n, seed, spec_arcmin, quantile, threads, model, error_model,
+                       n_save, specs, life) -> None:
+    """``simulate --select`` (or the design's [selection]): the run with random and with selective
+    assembly (same units)."""
     import rvbacklash.api as api
-    from rvbacklash.analysis.selection.classes import parse_selection
     from rvbacklash.report import tables
     from rvbacklash.report.files import render_csv, render_json
     from rvbacklash.report.selection import print_selection
 
-    selection = parse_selection(select, "--select")
     if n is None:
         raise InputError("--method", "exact", "allowed with --select: a sampled method (default)")
     if life:
         raise InputError("--life", True, "not allowed with --select (the precision outputs are selected against)")
-    if model != "elastic":
-        raise InputError("--select", select, "allowed with --model elastic (the contact and transmission models: "
-                                              "not yet)")
+    if model not in ("elastic", "contact", "transmission"):
+        raise InputError("--select", str(selection), "allowed with --model elastic, contact or transmission (the "
+                                                     "linear model draws no parts); --select none: random assembly")
     if not specs and spec_arcmin is None:
-        raise InputError("--select", select, "needs a spec to compare the yields, e.g. --spec-lost-motion-arcmin 1")
-    problem = api.prepare(design)
+        raise InputError("--select", str(selection), "needs a spec to compare the yields, e.g. "
+                                                     "--spec-lost-motion-arcmin 1 (--select none: random assembly)")
     with progress_bar(2 * n, note=CONTACT_NOTE) as progress:
         result = api.simulate_selected(problem, select=selection, samples=n, seed=seed, spec_arcmin=spec_arcmin,
                                        specs=specs, quantiles=quantile, workers=threads, model=model,

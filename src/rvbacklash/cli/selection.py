@@ -42,7 +42,8 @@ def print_sheet(sheet, console) -> None:
 @command
 def assemble(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    parts: str = typer.Option(..., "--parts", help="Measured parts of the batch, CSV: serial,kind,diameter_um (kind "
+    parts: str = typer.Option(..., "--parts", help="Measured parts of the batch, CSV or Parquet: serial,kind,"
+                                                   "diameter_um (kind "
                                                    "pin or roller: a roller set; diameter deviation [um]). With "
                                                    "--generate: the file to write.", metavar="FILE"),
     units: str = typer.Option(..., "--units", help="The batch's measured units (the measured-unit TOML: discs, "

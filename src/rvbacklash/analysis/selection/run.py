@@ -19,7 +19,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from rvbacklash.analysis.selection.classes import ClassSet, ClassTable, Selection, band_edges_um
-from rvbacklash.analysis.selection.source import SelectedElasticSource, selected_source
+from rvbacklash.analysis.selection.source import SelectedSource, selected_source
 from rvbacklash.analysis.simulation import SimulationResult, simulate
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.errors import InputError
@@ -140,11 +140,11 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
                       quantiles: tuple[float, ...] = (), workers: int | None = None, model: str = "elastic",
                       progress: Callable[[int], None] | None = None, error_model: str | None = None,
                       save_units: int = 0) -> SelectionResult:
-    """The run of ``model`` (elastic) with random assembly, then with ``selection``: the same seed
+    """The run of ``model`` (elastic, contact or transmission) with random assembly, then with
+    ``selection``: the same seed
     and units (module docstring). ``save_units`` keeps the selected run's first units."""
-    if model != "elastic":
-        raise InputError("model", model, "allowed with selection: elastic (the contact and transmission models: "
-                                         "not yet)")
+    if model not in ("elastic", "contact", "transmission"):
+        raise InputError("model", model, "allowed with selection: elastic, contact, transmission")
     if not (specs or spec_arcmin is not None):
         raise InputError("specs", None, "selection needs a spec to compare yields: e.g. --spec-lost-motion-arcmin 1")
     kw = dict(samples=samples, seed=seed, spec_arcmin=spec_arcmin, specs=specs, quantiles=quantiles, workers=workers,
@@ -156,7 +156,7 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
             progress(samples + done)
 
     random = simulate(problem, progress=first, **kw)
-    holder: list[SelectedElasticSource] = []
+    holder: list[SelectedSource] = []
     wrap = selected_source(selection)
 
     def keep(source):
@@ -170,12 +170,12 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
 
 
 def selection_result(problem: Problem, selection: Selection, random: SimulationResult, selected: SimulationResult,
-                     src: SelectedElasticSource) -> SelectionResult:
+                     src: SelectedSource) -> SelectionResult:
     from rvbacklash.analysis.selection.classes import factor_law
     from rvbacklash.analysis.selection.source import PIN_RADIUS
     from rvbacklash.sampling.unit_draw import CRANK_CLEARANCE
 
-    laws = src.base.contact.laws
+    laws = src.contact.laws
 
     def edges(f: int, classes: ClassSet, scale: float) -> np.ndarray:
         law = factor_law(int(laws.code[f]), float(laws.loc[f]), float(laws.scale[f]), float(laws.lower[f]),
