@@ -288,6 +288,9 @@ def report(
     workers: int = WORKERS_OPTION,
     capacity: bool = typer.Option(False, "--capacity", help="Add the capacity and life section (the nominal unit's "
                                                             "bearings, lives, derived ratings: docs/capacity.md)."),
+    select: Optional[str] = typer.Option(None, "--select", help="Add the selective assembly section (--model "
+                                         "contact, elastic or transmission, a spec): as simulate --select; default: "
+                                         "the design's [selection] table; none: no section."),
     json_out: Optional[str] = json_option("every number of the report"),
     csv_out: Optional[str] = csv_option("the key numbers"),
     fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
@@ -318,6 +321,15 @@ def report(
         raise InputError("--yield", yield_target, "allowed with --allocate only")
     out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)
     problem = api.prepare(design)
+    from rvbacklash.analysis.selection.classes import resolve_selection
+
+    selection = resolve_selection(select, problem.design)
+    if selection is not None and (model not in ("contact", "elastic", "transmission") or n is None):
+        raise InputError("--select", str(selection), "allowed with --model contact, elastic or transmission "
+                                                     "(--select none: no selection section)")
+    if selection is not None and not specs and spec_arcmin is None:
+        raise InputError("--select", str(selection), "needs a spec to compare the yields, e.g. "
+                                                     "--spec-lost-motion-arcmin 1 (--select none: no section)")
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         data = api.make_report(problem, samples=n if n is not None else 1, seed=seed, method=method,
                                spec_arcmin=spec_arcmin, specs=specs or None, scenarios=chosen, paper=paper, model=model,
@@ -326,7 +338,7 @@ def report(
                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec,
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
-                               progress=progress, capacity=capacity)
+                               progress=progress, capacity=capacity, select=selection)
     summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
                "key_numbers": data.key_numbers()}
     rows = data.rows()

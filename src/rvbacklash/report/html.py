@@ -40,6 +40,13 @@ def render_html(data: ReportData) -> str:
         extra.update(capacity=data.capacity, capacity_figure=plots.inline_svg(loads_svg(data.capacity)))
         if data.capacity_trade is not None:
             extra.update(trade=data.capacity_trade, trade_figure=plots.inline_svg(trade_svg(data.capacity_trade)))
+    if data.selection is not None:
+        extra.update(selection=data.selection)
+        if data.selection_sweep is not None:
+            from rvbacklash.report.selection import class_sweep_svg
+
+            extra.update(selection_sweep=data.selection_sweep,
+                         selection_figure=plots.inline_svg(class_sweep_svg(data.selection_sweep)))
     head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),
             "model_name": headline.model_name(data.model)}
     return env.get_template("report.html.j2").render(

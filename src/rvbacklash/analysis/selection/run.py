@@ -156,6 +156,13 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
             progress(samples + done)
 
     random = simulate(problem, progress=first, **kw)
+    return selected_beside(problem, selection, random, progress=second, save_units=save_units, **kw)
+
+
+def selected_beside(problem: Problem, selection: Selection, random: SimulationResult, *,
+                    progress: Callable[[int], None] | None = None, save_units: int = 0, **kw) -> SelectionResult:
+    """The selected run beside a random run already made (``random``: the run of ``simulate`` with the
+    same ``kw``: samples, seed, specs, model...; the report's run), the same units."""
     holder: list[SelectedSource] = []
     wrap = selected_source(selection)
 
@@ -164,7 +171,7 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
         holder.append(s)
         return s
 
-    selected = simulate(problem, progress=second, save_units=save_units, wrap=keep, **kw)
+    selected = simulate(problem, progress=progress, save_units=save_units, wrap=keep, **kw)
     src = holder[0]
     return selection_result(problem, selection, random, selected, src)
 
@@ -232,14 +239,18 @@ class ClassSweep(Result):
 
 def class_sweep(problem: Problem, *, counts=(1, 3, 5, 7, 9), widths=(1.0, 2.0, 4.0), noises=(0.0,),
                 rollers: ClassSet = ClassSet(3, 2.0), samples: int = 4000, seed: int = 0,
-                specs: Mapping[str, float] | None = None, workers: int | None = None) -> ClassSweep:
+                specs: Mapping[str, float] | None = None, workers: int | None = None,
+                model: str = "elastic") -> ClassSweep:
     """The yield of ``specs``' first output for every (pin classes, width, noise) (module docstring:
-    the same seed, the same units), beside random assembly."""
+    the same seed, the same units), beside random assembly; ``model``: elastic, contact or
+    transmission."""
     from rvbacklash.analysis.selection.classes import make_selection
 
     specs = dict(specs or {"lost_motion": 1.0})
     name = next(iter(specs))
-    base = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model="elastic")
+    if model not in ("elastic", "contact", "transmission"):
+        raise InputError("model", model, "allowed with selection: elastic, contact, transmission")
+    base = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model=model)
     points = []
     for noise in noises:
         for width in widths:
@@ -251,7 +262,7 @@ def class_sweep(problem: Problem, *, counts=(1, 3, 5, 7, 9), widths=(1.0, 2.0, 4
                     holder.append(wrap(source))
                     return holder[-1]
 
-                run = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model="elastic",
+                run = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model=model,
                                wrap=keep)
                 r = selection_result(problem, sel, base, run, holder[0])
                 points.append(ClassSweepPoint(int(k), float(width), float(noise), run.outputs[name].yield_,
