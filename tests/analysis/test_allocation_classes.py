@@ -73,3 +73,17 @@ def test_cli_select_classes(tmp_path):
                            "--select-classes", "5x3"), "PINS:ROLLERS")
     one_line_error(run_cli("allocate", "rv80e", "--spec-arcmin", "1", "--yield", "0.9", "--select-classes",
                            "default"), "contact, elastic or transmission")
+
+
+def test_json_validates_against_the_allocate_schema(priced):
+    import jsonschema
+
+    from rvbacklash.report.files import render_json
+    from rvbacklash.report.schemas import output_schema
+
+    data = json.loads(render_json(priced[1].to_dict()))
+    schema = output_schema("allocate")
+    jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
+    data["options"][0]["moved"] = 1
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
