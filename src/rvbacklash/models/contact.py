@@ -122,6 +122,15 @@ class StageWork(NamedTuple):
     lever_um_per_rad: np.ndarray
 
 
+class FreeInterval(NamedTuple):
+    """The linearised free interval of a unit's turn (unit_gaps, free_interval_bounds): lo <= beta <=
+    hi [rad], and the smallest gap of a pin without a lever [um]."""
+
+    lo_rad: float
+    hi_rad: float
+    flat_um: float
+
+
 class StagePlay(NamedTuple):
     """The cycloid stage's play (stage_play): its free rotation from the assembled position in
     each direction [rad] and the pin (and its disc) that stops it; when preloaded, NaN plays, pins
@@ -612,7 +621,7 @@ def stage_play(coef, stage, unit, gaps, work, play=True):
     preload only.
     """
     lo, hi, flat = unit_gaps(coef, stage, unit, gaps, work)
-    return play_from_gaps(coef, stage, unit, gaps, work, lo, hi, flat, play)
+    return play_from_gaps(coef, stage, unit, gaps, work, FreeInterval(lo, hi, flat), play)
 
 
 @njit(nogil=True, cache=True, inline="always")
@@ -630,9 +639,10 @@ def shift_pin_radius(coef, unit, gaps, work, j, radius_um):
 
 
 @njit_borrowing(nogil=True, cache=True)
-def play_from_gaps(coef, stage, unit, gaps, work, lo, hi, flat, play):
-    """stage_play of a unit whose gaps unit_gaps has found (``gaps``, ``work``; its returns lo, hi,
-    flat): everything stage_play does after unit_gaps."""
+def play_from_gaps(coef, stage, unit, gaps, work, free, play):
+    """stage_play of a unit whose gaps unit_gaps has found (``gaps``, ``work``; ``free``: the
+    FreeInterval it returned): everything stage_play does after unit_gaps."""
+    lo, hi, flat = free.lo_rad, free.hi_rad, free.flat_um
     a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
     md = unit.moving_distance_um
     gap, lever = gaps.gap_um, gaps.lever_um_per_rad

@@ -29,8 +29,9 @@ from rvbacklash._numba import njit
 from rvbacklash.analysis.selection.classes import ClassTable, Selection, class_table, factor_law
 from rvbacklash.analysis.selection.rules import in_class_um, pin_class_rule, roller_class_rule
 from rvbacklash.errors import InputError
-from rvbacklash.models.contact import (PinGaps, crank_step_angle_rad, free_interval_bounds, mesh_table, pin_gaps,
-                                      play_from_gaps, recorded_stage, shift_pin_radius, stage_work, unit_gaps)
+from rvbacklash.models.contact import (FreeInterval, PinGaps, crank_step_angle_rad, free_interval_bounds, mesh_table,
+                                      pin_gaps, play_from_gaps, recorded_stage, shift_pin_radius, stage_work,
+                                      unit_gaps)
 from rvbacklash.models.unit_errors import empty_unit, empty_units, store_unit
 from rvbacklash.sampling.chunked import draw_then_evaluate
 from rvbacklash.sampling.contact_source import (ContactBlockSource, SavedUnits, block_streams, save_unit, saved_slice,
@@ -111,8 +112,8 @@ def select_unit(mesh, stage, unit, gaps, work, tables, noise_um, scratch):
     class the rule picks from them (read with the measurement error ``noise_um``), every pin then
     replaced by its class's part at the same quantile and the gaps moved with it (a pin's gap is
     linear in its radius: contact.shift_pin_radius; the pins are not placed again), and the roller
-    class. Returns (pin class, roller class, predicted play [arcmin], lo, hi, flat): the last three
-    the linearised free interval of the unit as selected, stage_play's (contact.play_from_gaps).
+    class. Returns (pin class, roller class, predicted play [arcmin], the FreeInterval of the unit as
+    selected: stage_play's, for contact.play_from_gaps).
     One class of pins leaves the unit as drawn: the gaps are bit for bit the random run's."""
     lo, hi, flat = unit_gaps(mesh, stage, unit, gaps, work)
     c_p, play = pin_class_rule(gaps.gap_um, gaps.lever_um_per_rad, unit.pin_radius_um, tables.pins, noise_um,
@@ -122,7 +123,7 @@ def select_unit(mesh, stage, unit, gaps, work, tables, noise_um, scratch):
             shift_pin_radius(mesh, unit, gaps, work, j, in_class_um(unit.pin_radius_um[j], tables.pins, c_p))
         lo, hi, flat = free_interval_bounds(gaps, stage.pitch_radius_um)
     c_r = roller_class_rule(play, tables.rollers, tables.crank_sens_arcmin_per_um, tables.target_arcmin)
-    return c_p, c_r, play, lo, hi, flat
+    return c_p, c_r, play, FreeInterval(lo, hi, flat)
 
 
 @njit(nogil=True, cache=True, inline="always")
@@ -148,7 +149,7 @@ def draw_selected_kernel(streams, laws, stage, coef, batch, saved, tables, recor
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         mesh = coef[drawn.crank_step]
         gaps = PinGaps(batch.gap_um[s], batch.lever_um_per_rad[s])
-        c_p, c_r, play, lo, hi, flat = select_unit(mesh, stage, unit, gaps, work, tables, record.noise_um[s], rule)
+        c_p, c_r, play, free = select_unit(mesh, stage, unit, gaps, work, tables, record.noise_um[s], rule)
         crank = selected_clearance_um(tables, drawn.crank_clearance_um, c_r)
         record.pin_class[s], record.roller_class[s], record.predicted_play_arcmin[s] = c_p, c_r, play
         batch.chi_rad[s] = crank_step_angle_rad(drawn.crank_step, stage.zp, steps)
@@ -156,7 +157,7 @@ def draw_selected_kernel(streams, laws, stage, coef, batch, saved, tables, recor
                                              0.0) / ARCMIN_PER_RAD
         batch.crank_clearance_um[s] = crank
         save = s < saved.crank_step.size
-        p = play_from_gaps(mesh, stage, unit, gaps, work, lo, hi, flat, save)
+        p = play_from_gaps(mesh, stage, unit, gaps, work, free, save)
         batch.preload_um[s] = p.preload_um if math.isnan(p.play_ccw_rad) else np.nan
         if save:
             save_unit(saved, s, unit, UnitDraw(drawn.crank_step, drawn.linear_arcmin + sens * (
@@ -177,10 +178,10 @@ def contact_selected_block(streams, laws, stage, coef, out, saved, tables, recor
     for s in range(out.shape[1]):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         mesh = coef[drawn.crank_step]
-        c_p, c_r, pred, lo, hi, flat = select_unit(mesh, stage, unit, gaps, work, tables, record.noise_um[s], rule)
+        c_p, c_r, pred, free = select_unit(mesh, stage, unit, gaps, work, tables, record.noise_um[s], rule)
         crank = selected_clearance_um(tables, drawn.crank_clearance_um, c_r)
         record.pin_class[s], record.roller_class[s], record.predicted_play_arcmin[s] = c_p, c_r, pred
-        play = play_from_gaps(mesh, stage, unit, gaps, work, lo, hi, flat, play_too)
+        play = play_from_gaps(mesh, stage, unit, gaps, work, free, play_too)
         lin = drawn.linear_arcmin + sens * (crank - drawn.crank_clearance_um) if crank != drawn.crank_clearance_um \
             else drawn.linear_arcmin
         cycloid = recorded_stage(play)
@@ -213,8 +214,7 @@ def te_selected_chunk(streams, kin_streams, laws, kin_laws, batch, saved, sel):
     for s in range(batch.linear_arcmin.size):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         draw_kinematic(kin_streams, kin_laws, unit)
-        c_p, c_r, pred, lo, hi, flat = select_unit(sel.mesh, stage, unit, gaps, work, tables, record.noise_um[s],
-                                                   rule)
+        c_p, c_r, pred, _ = select_unit(sel.mesh, stage, unit, gaps, work, tables, record.noise_um[s], rule)
         crank = selected_clearance_um(tables, drawn.crank_clearance_um, c_r)
         record.pin_class[s], record.roller_class[s], record.predicted_play_arcmin[s] = c_p, c_r, pred
         lin = drawn.linear_arcmin + sens * (crank - drawn.crank_clearance_um) if crank != drawn.crank_clearance_um \
