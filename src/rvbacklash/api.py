@@ -377,7 +377,8 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     if selection is not None and not sim.partial:  # the same units selected, and the yield vs the pin classes
         from rvbacklash.analysis.selection.run import class_sweep, selected_beside
 
-        chosen_run = selected_beside(problem, selection, sim, samples=samples, seed=seed, spec_arcmin=spec_arcmin,
+        chosen_run = selected_beside(problem, selection, sim, samples=samples, seed=seed, method=method,
+                                     spec_arcmin=spec_arcmin,
                                      specs=specs, model=model, workers=workers)
         sweep_specs = {name: o.spec_limit for name, o in sim.outputs.items() if o.spec_limit is not None}
         width = selection.pins.width_um if selection.pins.boundaries_um is None and selection.pins.count > 1 else 2.0
