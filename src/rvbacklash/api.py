@@ -42,6 +42,7 @@ DesignLike = Union[Design, str, Path, Problem]
 DEFAULT_SAMPLES = 1_000_000  # = analysis.simulation.DEFAULT_SAMPLES (a test keeps them equal)
 ALLOCATION_SAMPLES = 1 << 16  # per candidate of a Monte-Carlo allocation (= analysis.allocation.DEFAULT_MC_SAMPLES)
 REPORT_SCENARIO_SAMPLES = 1_000_000  # scenarios of a report: at most this many samples each
+REPORT_SELECTION_SAMPLES = 4000  # each point of a report's yield versus the pin classes (+-1.6 points at 95 %)
 
 
 def prepare(design: DesignLike) -> Problem:
@@ -274,7 +275,7 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
                 progress: Callable[[int], None] | None = None, capacity: bool = False, efficiency: bool = False,
-                duty_cycle: str | Path | None = None) -> ReportData:
+                duty_cycle: str | Path | None = None, select=None) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
@@ -287,8 +288,10 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``); ``capacity``: the capacity and life
     section (docs/capacity.md); ``efficiency``: the losses and efficiency section (docs/efficiency.md), with
     ``duty_cycle`` (a CSV or TOML file or a packaged cycle's name; implies ``efficiency``) its thermal balance
-    and lost motion and backlash at the steady temperature. An interrupted simulation skips what follows it;
-    the data are then marked partial."""
+    and lost motion and backlash at the steady temperature; ``select`` (a Selection or the ``--select`` string; contact, elastic or
+    transmission model, a spec): the selection section, the same units assembled at random (the report's
+    run) and selected, and the yield versus the number of pin classes (docs/selective-assembly.md). An
+    interrupted simulation skips what follows it; the data are then marked partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
     from rvbacklash.analysis.scenarios import Comparison
@@ -328,6 +331,15 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
             sweep = load_sweep(sweep_dir)
         except InputError as e:
             raise e.renamed("sweep_dir") if e.field == "out" else e from None
+    selection = None
+    if select is not None:
+        from rvbacklash.analysis.selection.classes import as_selection
+
+        selection = as_selection(select)
+        if model not in ("contact", "elastic", "transmission"):
+            raise InputError("select", str(selection), "allowed with the contact, elastic or transmission model")
+        if spec_arcmin is None and not specs:
+            raise InputError("select", str(selection), "needs a spec to compare the yields, e.g. spec_arcmin")
     stack = _analyze(problem)
     chosen = (_paper_scenarios(problem) if paper else []) + list(scenarios)
     sim = _simulate(problem, samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin, specs=specs,
@@ -375,8 +387,21 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
         from rvbacklash.analysis.losses import efficiency_rating
 
         eff = efficiency_rating(problem, duty_cycle=cycle)
+    chosen_run = picked_classes = None
+    if selection is not None and not sim.partial:  # the same units selected, and the yield vs the pin classes
+        from rvbacklash.analysis.selection.run import class_sweep, selected_beside
+
+        chosen_run = selected_beside(problem, selection, sim, samples=samples, seed=seed, method=method,
+                                     spec_arcmin=spec_arcmin,
+                                     specs=specs, model=model, workers=workers)
+        sweep_specs = {name: o.spec_limit for name, o in sim.outputs.items() if o.spec_limit is not None}
+        width = selection.pins.width_um if selection.pins.boundaries_um is None and selection.pins.count > 1 else 2.0
+        picked_classes = class_sweep(problem, counts=(1, 3, 5, 9), widths=(width,), rollers=selection.rollers,
+                                     samples=min(samples, REPORT_SELECTION_SAMPLES), seed=seed,
+                                     noises=(selection.noise_um,),
+                                     specs=dict(list(sweep_specs.items())[:1]), workers=workers, model=model)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission, cap, trade, eff)
+                             elastic, sweep, transmission, cap, trade, eff, chosen_run, picked_classes)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,

@@ -140,12 +140,12 @@ def test_selection_buys_yield_same_seed_same_numbers(rv80e_problem):
     assert a.to_frame is not None and any(r["table"] == "classes" for r in a.rows())
 
 
-def test_selection_needs_a_spec_and_the_elastic_model(rv80e_problem):
+def test_selection_needs_a_spec_and_a_model_that_draws_parts(rv80e_problem):
     sel = make_selection(pins=ClassSet(5, 2.0))
     with pytest.raises(InputError, match="spec"):
         simulate_selected(rv80e_problem, sel, samples=10)
-    with pytest.raises(InputError, match="elastic"):
-        simulate_selected(rv80e_problem, sel, samples=10, specs=SPEC, model="contact")
+    with pytest.raises(InputError, match="elastic, contact, transmission"):
+        simulate_selected(rv80e_problem, sel, samples=10, specs=SPEC, model="linear")
 
 
 def test_selection_json_validates_against_the_simulate_schema(rv80e_problem):

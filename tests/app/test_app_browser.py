@@ -86,6 +86,17 @@ def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
                      for k in TEMPERATURE_KEYS}
         assert page.is_visible("#efficiency-section") and page.inner_text("#efficiency-error") == ""
 
+        # the selection card: the same run's units with pins and rollers from classes (issue 39)
+        assert page.is_visible("#selection-section")
+        page.fill("#select", "pins=5x2um,rollers=3x2um")
+        page.dispatch_event("#select", "change")
+        page.wait_for_function("document.body.dataset.selectionShown == String(window.workbench.seq)",
+                               timeout=300_000)
+        random_ym = float(page.get_attribute('#selection-card [data-key="selection.lost_motion.random"]', "data-value"))
+        selected_ym = float(page.get_attribute('#selection-card [data-key="selection.lost_motion.selected"]',
+                                               "data-value"))
+        assert random_ym == before and selected_ym > random_ym and page.inner_text("#selection-error") == ""
+
         after_change(page, lambda: page.select_option("#grade-cycloid", "3"))
         after = float(page.get_attribute(LOST_MOTION, "data-value"))
         joint = float(page.get_attribute('[data-key="joint.yield"]', "data-value"))

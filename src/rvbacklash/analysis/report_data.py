@@ -35,12 +35,15 @@ class ReportData(Result):
     capacity: object | None = None  # analysis.capacity.CapacityResult (issue 37)
     capacity_trade: object | None = None  # analysis.capacity.CapacityTrade: lost motion against life
     efficiency: object | None = None  # analysis.losses.EfficiencyResult (issue 40): losses, efficiency, temperature
+    selection: object | None = None  # analysis.selection.run.SelectionResult: the run selected (issue 39)
+    selection_sweep: object | None = None  # analysis.selection.run.ClassSweep: yield vs the pin classes
 
     @property
     def partial(self) -> bool:
         return self.simulation.partial or any(getattr(x, "partial", False) for x in (self.comparison, self.sensitivity,
                                                                                        self.allocation,
-                                                                                       self.capacity_trade))
+                                                                                       self.capacity_trade,
+                                                                                       self.selection))
 
     def key_numbers(self) -> dict:
         """The numbers the page marks, by the JSON path they have in ``to_dict``, the chosen model's
@@ -65,9 +68,14 @@ class ReportData(Result):
         if self.transmission is not None:
             nominal["transmission.nominal.te_peak_to_peak_arcsec"] = self.transmission.nominal.te_peak_to_peak_arcsec
         allocation = {"allocation.cost": self.allocation.cost} if self.allocation is not None else {}
+        selected = {}
+        if self.selection is not None:  # the first spec's yield selected (random: simulation.<output>.yield)
+            y = self.selection.yields[0]
+            if y.selected is not None:
+                selected[f"selection.selected_outputs.{y.output}.yield"] = y.selected.fraction
         if self.model == "linear":
             return {**linear, **run, **self.model_numbers(), **allocation, **nominal}
-        return {**self.model_numbers(), **run, **nominal, **allocation, **linear}
+        return {**self.model_numbers(), **run, **selected, **nominal, **allocation, **linear}
 
     @property
     def model(self) -> str:
@@ -121,7 +129,21 @@ class ReportData(Result):
                 "comparison": d(self.comparison), "contact_nominal": d(self.contact),
                 "sensitivity": d(self.sensitivity), "allocation": d(self.allocation), "elastic": d(self.elastic),
                 "sweep": d(self.sweep), "transmission": d(self.transmission), "capacity": d(self.capacity),
-                "capacity_trade": d(self.capacity_trade), "efficiency": d(self.efficiency)}
+                "capacity_trade": d(self.capacity_trade), "efficiency": d(self.efficiency),
+                "selection": self._selection_dict(),
+                "selection_sweep": d(self.selection_sweep)}
+
+    def _selection_dict(self) -> dict | None:
+        """The selection's result without its two runs' full figures: the random run is ``simulation``;
+        the selected run's outputs are kept (``selected_outputs``)."""
+        if self.selection is None:
+            return None
+        d = self.selection.to_dict()
+        d.pop("random_run")
+        run = d.pop("selected_run")
+        d["selected_outputs"] = run["outputs"]
+        d["selected_joint_yield"] = run.get("joint_yield")
+        return d
 
     def rows(self) -> list[dict]:
         """The key numbers, each row marked ``partial`` when the report was interrupted."""
@@ -188,11 +210,11 @@ def build_report_data(problem: Problem, stackup: StackupResult, simulation: Simu
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
                       sweep=None, transmission=None, capacity=None,
-                      capacity_trade=None, efficiency=None) -> ReportData:
+                      capacity_trade=None, efficiency=None, selection=None, selection_sweep=None) -> ReportData:
     warnings = validity_warnings(problem, stackup, simulation)
     if elastic is not None:  # the elastic section's nominal unit (also beside another model's run)
         warnings += tuple(f"elastic section: {w}" for w in elastic.nominal.warnings
                           if not any(w in x for x in warnings))
     return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact, warnings,
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
-                      elastic, sweep, transmission, capacity, capacity_trade, efficiency)
+                      elastic, sweep, transmission, capacity, capacity_trade, efficiency, selection, selection_sweep)

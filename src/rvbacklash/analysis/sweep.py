@@ -218,7 +218,36 @@ def evaluate_point(task: PointTask) -> PointOutcome:
                       spec_arcmin=task.spec_arcmin, specs=task.specs or None, quantiles=task.quantiles,
                       workers=task.threads, model=task.model, stream=(task.index,), life=task.life)
     row = {"point": task.index, **dict(zip(task.paths, task.values)), **result_figures(result)}
-    return PointOutcome(row, result.partial, time.perf_counter() - t0)
+    partial = result.partial
+    if task.design.selection is not None and not partial:  # the design's [selection]: the same units selected
+        more = selected_figures(task, result)
+        row.update(more[0])
+        partial = more[1]
+    return PointOutcome(row, partial, time.perf_counter() - t0)
+
+
+def selected_figures(task: PointTask, random) -> tuple[dict, bool]:
+    """The columns of a point whose design has a [selection] table (docs/selective-assembly.md): each
+    spec's yield with the point's units selected (``selected_<output>_yield`` and its interval, the
+    joint yield) and the part sets bought per unit built; a model that draws no parts, a run without
+    a spec or with the life outputs: none."""
+    from rvbacklash.analysis.selection.classes import design_selection
+    from rvbacklash.analysis.selection.run import selected_beside
+
+    if task.model not in ("contact", "elastic", "transmission") or task.life or not any(
+            o.spec_limit is not None for o in random.outputs.values()):
+        return {}, False
+    r = selected_beside(prepare(task.design), design_selection(task.design.selection), random, samples=task.samples,
+                        seed=task.seed, method=task.method, spec_arcmin=task.spec_arcmin, specs=task.specs or None,
+                        quantiles=task.quantiles, workers=task.threads, model=task.model, stream=(task.index,))
+    row: dict[str, Any] = {"selection": str(r.selection)}
+    for y in r.yields:
+        p = "selected_joint_yield" if y.output == "joint" else f"selected_{y.output}_yield"
+        if y.selected is not None:
+            row.update({p: y.selected.fraction, p + "_ci95_low": y.selected.ci95_low,
+                        p + "_ci95_high": y.selected.ci95_high})
+    row.update({"pin_sets_per_unit": r.pin_sets_per_unit, "roller_sets_per_unit": r.roller_sets_per_unit})
+    return plain(row), r.partial
 
 
 def point_tasks(plan: SweepPlan, indices: Iterable[int], threads: int | None) -> list[PointTask]:

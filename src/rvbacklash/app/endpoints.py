@@ -149,6 +149,47 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         text = await run(body, compute, total=inputs["samples"])
         return Response(text, media_type="application/json" if fmt == "json" else "text/csv")
 
+    @endpoint(name="selection")
+    async def selection(body: dict) -> Response:
+        """The selection card (docs/selective-assembly.md): the run's units assembled at random and with
+        ``select`` (the ``--select`` string; the design's [selection] table when left out), side by side:
+        ``simulate --select --json`` without the two runs' full figures, cached by the design's text."""
+        text = body.get("select")
+        if text is not None and not isinstance(text, str):
+            raise InputError("select", text, "allowed: a string such as 'pins=5x2um,rollers=3x2um'")
+        inputs = simulation_inputs({k: v for k, v in body.items() if k != "select"})
+        inputs.pop("method", None)
+
+        def compute(job: Job) -> str:
+            from rvbacklash.analysis.selection.classes import resolve_selection
+
+            item = design_of(body)
+            try:
+                chosen = resolve_selection(text if text and text.strip() else None, item.problem.design, "select")
+            except InputError as e:  # "select pins": the page's control is "select"
+                raise (e.renamed("select") if e.field.startswith("select ") else e) from None
+            if chosen is None:
+                raise InputError("select", text, "allowed: pins=COUNTxWIDTHum[,rollers=...] (the design has no "
+                                                 "[selection] table)")
+            if inputs["model"] not in ("contact", "elastic", "transmission"):
+                raise InputError("model", inputs["model"], "allowed with selection: contact, elastic, transmission")
+            if not inputs["specs"] and inputs["spec_arcmin"] is None:
+                raise InputError("specs", None, "selection compares yields: allowed: a spec of the model's outputs")
+            key = json.dumps(["selection", item.text, str(chosen), inputs], sort_keys=True, default=str)
+            cached = results.get(key)
+            if cached is not None:
+                return cached
+            result = api.simulate_selected(item.problem, select=chosen, progress=job.progress, **inputs)
+            data = result.to_dict()
+            for run in ("random_run", "selected_run"):
+                data.pop(run)
+            out = render_json(data)
+            if not result.partial:
+                results.put(key, out)
+            return out
+
+        return Response(await run(body, compute, total=2 * inputs["samples"]), media_type="application/json")
+
     def rendered(result) -> Response:
         return Response(render_json(result.to_dict()), media_type="application/json")
 
@@ -307,7 +348,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return FileResponse(plotly_js(), media_type="text/javascript")
 
     posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
-             "capacity": capacity, "efficiency": efficiency,
+             "capacity": capacity, "efficiency": efficiency, "selection": selection,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),

@@ -36,7 +36,8 @@ SPEC_KEYS = {"arcmin": "spec_arcmin", "lost_motion_arcmin": "spec_lost_motion_ar
 SPEC_FIELDS = {param: f"specs.{key}" for key, param in SPEC_KEYS.items()}
 # API parameter -> the request's field, per endpoint where they differ (the command line's cli.common.FLAGS
 # maps them to its flags): an error names what the request (and the page's control) calls it
-REQUEST_FIELDS = {"simulate": SPEC_FIELDS, "report": SPEC_FIELDS, "allocate": {"yield_target": "yield"}}
+REQUEST_FIELDS = {"simulate": SPEC_FIELDS, "report": SPEC_FIELDS, "selection": SPEC_FIELDS,
+                  "allocate": {"yield_target": "yield"}}
 COMMON_FIELDS = {"design", "origin", "edits", "request_id", "channel"}
 
 

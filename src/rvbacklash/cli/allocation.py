@@ -8,6 +8,7 @@ from typing import Optional
 import typer
 
 from rvbacklash.cli.app import app
+from rvbacklash.errors import InputError
 from rvbacklash.cli.common import (DESIGN_HELP, FORCE_OPTION, FORMAT_OPTION, QUIET_OPTION, SEED_OPTION, Format,
                                    Outputs, command, csv_option, json_option, parse_samples, progress_bar,
                                    stdout_console, workers_or_none)
@@ -88,6 +89,11 @@ def allocate(
     plot: Optional[str] = typer.Option(None, "--plot", help="Write the cost-yield Pareto front as SVG to FILE.",
                                         metavar="FILE"),
     samples: str = typer.Option("65536", "--samples", "-n", help="Samples per candidate (Monte-Carlo models)."),
+    select_classes: Optional[str] = typer.Option(
+        None, "--select-classes", metavar="MENU", help="Grades and classes: the cheapest grades with each selective "
+        "assembly of MENU (PINS:ROLLERS class counts, 2 um wide, e.g. 1:1,5:1,5:3; 'default': "
+        "1:1,3:1,5:1,1:3,3:3,5:3), its measuring, classes and surplus costed by [costs.selection]; contact, "
+        "elastic or transmission model (docs/selective-assembly.md)."),
     seed: int = SEED_OPTION,
     scheduler: str = typer.Option("inline", "--scheduler", help="Where Monte-Carlo candidates run: inline | local | "
                                                                 "the address of a Dask scheduler (tcp://host:8786)."),
@@ -108,6 +114,15 @@ def allocate(
     threads = workers_or_none(workers)
     out = Outputs(fmt, force, quiet, write_design=write_design, json=json_out, csv=csv_out, plot=plot)
     problem = api.prepare(design)
+    if select_classes is not None:
+        if plot is not None:
+            raise InputError("--plot", plot, "not drawn with --select-classes (its options' table is the result)")
+        if spec_life_h is not None or spec_rated_torque_nm is not None:
+            raise InputError("--select-classes", select_classes, "not allowed with a life spec (the precision "
+                                                                 "outputs are selected against)")
+        _allocate_classes(problem, design, select_classes, out, spec_arcmin, yield_target, model, spec_rigidity,
+                          spec_preload, spec_te_arcsec, n, seed, threads)
+        return
     with progress_bar(None if model == "linear" else 200, what="candidates") as progress:
         result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                               spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload,
@@ -135,3 +150,64 @@ def allocate(
                lambda: print_allocation(result, stdout_console()), data, rows)
     if result.partial:
         raise typer.Exit(130)
+
+
+def parse_menu(text: str) -> tuple[tuple[int, int], ...]:
+    """``--select-classes``: 'default' or PINS:ROLLERS class counts, comma-separated."""
+    from rvbacklash.analysis.allocation.classes import DEFAULT_MENU
+    from rvbacklash.analysis.selection.classes import MAX_CLASSES
+
+    if text.strip().lower() == "default":
+        return DEFAULT_MENU
+    menu = []
+    for item in text.split(","):
+        pins, colon, rollers = item.strip().partition(":")
+        try:
+            pair = (int(pins), int(rollers))
+        except ValueError:
+            pair = None
+        if not colon or pair is None or not all(1 <= k <= MAX_CLASSES for k in pair):
+            raise InputError("--select-classes", text, f"'{item.strip()}': allowed PINS:ROLLERS class counts 1 to "
+                                                       f"{MAX_CLASSES}, comma-separated (e.g. 1:1,5:3), or default")
+        menu.append(pair)
+    return tuple(menu)
+
+
+def _allocate_classes(problem, design, select_classes, out, spec_arcmin, yield_target, model, spec_rigidity,
+                      spec_preload, spec_te_arcsec, n, seed, threads) -> None:
+    """``allocate --select-classes``: the cheapest grades and classes (analysis.allocation.classes)."""
+    from rvbacklash.analysis.allocation.classes import allocate_grades_and_classes
+    from rvbacklash.report.allocation_tables import print_class_allocation
+    from rvbacklash.report.design_toml import design_toml
+    from rvbacklash.report.files import render_csv, render_json
+
+    menu = parse_menu(select_classes)
+    if model == "linear":
+        raise InputError("--select-classes", select_classes, "allowed with --model contact, elastic or transmission "
+                                                             "(the linear model draws no parts)")
+    with progress_bar(None, what="candidates") as progress:
+        result = allocate_grades_and_classes(problem, model=model, spec_arcmin=spec_arcmin, yield_target=yield_target,
+                                             menu=menu, spec_rigidity_nm_per_arcmin=spec_rigidity,
+                                             spec_preload_um=spec_preload, spec_te_arcsec=spec_te_arcsec, samples=n,
+                                             seed=seed, workers=threads, progress=progress)
+    data, rows = result.to_dict(), [{**r, "partial": False} for r in result.rows()]
+
+    def chosen_design() -> str:
+        from rvbacklash.design.selection import SelectionInputs
+
+        chosen = next(o for o in result.options if o.chosen)
+        d = result.allocation.design
+        if chosen.pin_classes > 1 or chosen.roller_classes > 1:
+            d = d.model_copy(update={"selection": SelectionInputs(
+                pins=f"{chosen.pin_classes}x2um" if chosen.pin_classes > 1 else None,
+                rollers=f"{chosen.roller_classes}x2um" if chosen.roller_classes > 1 else None)})
+        return design_toml(d, f"Written by rvbacklash allocate --select-classes ({problem.source}): grades and "
+                              f"classes, {chosen.selection}, total cost {chosen.total_cost:.6g} {result.unit} per "
+                              f"reducer built; {result.model} model.")
+
+    if result.allocation is None:
+        raise InputError("yield_target", yield_target, "no option of the menu meets the target under the "
+                                                       f"{model} model; allowed: a lower yield or a larger spec")
+    out.finish({"--write-design": chosen_design, "--json": lambda: render_json(data),
+                "--csv": lambda: render_csv(rows)},
+               lambda: print_class_allocation(result, stdout_console()), data, rows)

@@ -75,9 +75,11 @@ def simulate(
                                                     "largest pin stress beside its precision figures (--model elastic; "
                                                     "implied by a life spec)."),
     select: Optional[str] = typer.Option(
-        None, "--select", help="Selective assembly beside random assembly (--model elastic): pins and needle "
-                               "rollers from diameter classes per unit, e.g. pins=5x2um,rollers=3x2um[,noise=0.5um]"
-                               "[,play=[MIN:]MAX][,target=ARCMIN] (docs/selective-assembly.md)."),
+        None, "--select", help="Selective assembly beside random assembly (--model elastic, contact or "
+                               "transmission): pins and needle rollers from diameter classes per unit, e.g. "
+                               "pins=5x2um,rollers=3x2um[,noise=0.5um][,play=[MIN:]MAX][,target=ARCMIN], or class "
+                               "boundaries pins=-4,-2,0,2,4um; replaces the design's [selection] table; none: "
+                               "random assembly (docs/selective-assembly.md)."),
     json_out: Optional[str] = json_option(),
     csv_out: Optional[str] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
@@ -100,11 +102,16 @@ def simulate(
     if save_units is not None and n_save < 1:
         raise InputError("--save-units", n_save, "allowed: N >= 1 units to write to FILE")
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, save_units=save_path)
-    if select is not None:
-        _simulate_selected(design, select, out, n, seed, spec_arcmin, quantile, threads, model, error_model, n_save,
-                           specs, life)
-        return
     problem = api.prepare(design)
+    from rvbacklash.analysis.selection.classes import resolve_selection
+
+    selection = resolve_selection(select, problem.design)
+    if select is None and not _table_selection_applies(selection, model, n, specs, spec_arcmin, life, quiet):
+        selection = None
+    if selection is not None:
+        _simulate_selected(problem, design, selection, out, n, seed, spec_arcmin, quantile, threads, model,
+                           error_model, n_save, specs, life)
+        return
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         result = api.simulate(problem, samples=n if n is not None else 1, seed=seed, method=method,
                               spec_arcmin=spec_arcmin, quantiles=quantile, workers=threads, model=model,
@@ -125,26 +132,40 @@ def simulate(
         raise typer.Exit(130)
 
 
-def _simulate_selected(design, select, out, n, seed, spec_arcmin, quantile, threads, model, error_model, n_save,
-                       specs, life) -> None:
-    """``simulate --select``: the run with random and with selective assembly (same units)."""
+def _table_selection_applies(selection, model, n, specs, spec_arcmin, life, quiet) -> bool:
+    """Whether the design's [selection] table (no --select given) applies to this run: a sampled
+    contact, elastic or transmission run with a spec and no --life. Where it does not, the run is
+    the random assembly and a note says why (a design with the table runs every command; the
+    --select flag itself is checked strictly)."""
+    if selection is None:
+        return False
+    why = ("the linear model draws no parts" if model not in ("contact", "elastic", "transmission") else
+           "--method exact" if n is None else "--life" if life else
+           "no spec to compare the yields" if not specs and spec_arcmin is None else None)
+    if why is not None and not quiet:
+        sys.stderr.write(f"note: the design's [selection] table is not applied ({why}); random assembly\n")
+    return why is None
+
+
+def _simulate_selected(problem, design, selection, out, n, seed, spec_arcmin, quantile, threads, model, error_model,
+                       n_save, specs, life) -> None:
+    """``simulate --select`` (or the design's [selection]): the run with random and with selective
+    assembly (same units)."""
     import rvbacklash.api as api
-    from rvbacklash.analysis.selection.classes import parse_selection
     from rvbacklash.report import tables
     from rvbacklash.report.files import render_csv, render_json
     from rvbacklash.report.selection import print_selection
 
-    selection = parse_selection(select, "--select")
     if n is None:
         raise InputError("--method", "exact", "allowed with --select: a sampled method (default)")
     if life:
         raise InputError("--life", True, "not allowed with --select (the precision outputs are selected against)")
-    if model != "elastic":
-        raise InputError("--select", select, "allowed with --model elastic (the contact and transmission models: "
-                                              "not yet)")
+    if model not in ("elastic", "contact", "transmission"):
+        raise InputError("--select", str(selection), "allowed with --model elastic, contact or transmission (the "
+                                                     "linear model draws no parts); --select none: random assembly")
     if not specs and spec_arcmin is None:
-        raise InputError("--select", select, "needs a spec to compare the yields, e.g. --spec-lost-motion-arcmin 1")
-    problem = api.prepare(design)
+        raise InputError("--select", str(selection), "needs a spec to compare the yields, e.g. "
+                                                     "--spec-lost-motion-arcmin 1 (--select none: random assembly)")
     with progress_bar(2 * n, note=CONTACT_NOTE) as progress:
         result = api.simulate_selected(problem, select=selection, samples=n, seed=seed, spec_arcmin=spec_arcmin,
                                        specs=specs, quantiles=quantile, workers=threads, model=model,
@@ -290,6 +311,9 @@ def report(
                                              "or a packaged cycle's name) for the section's thermal balance: the steady "
                                              "case temperature and lost motion there (implies --efficiency).",
                                              metavar="FILE"),
+    select: Optional[str] = typer.Option(None, "--select", help="Add the selective assembly section (--model "
+                                         "contact, elastic or transmission, a spec): as simulate --select; default: "
+                                         "the design's [selection] table; none: no section."),
     json_out: Optional[str] = json_option("every number of the report"),
     csv_out: Optional[str] = csv_option("the key numbers"),
     fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
@@ -320,6 +344,17 @@ def report(
         raise InputError("--yield", yield_target, "allowed with --allocate only")
     out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)
     problem = api.prepare(design)
+    from rvbacklash.analysis.selection.classes import resolve_selection
+
+    selection = resolve_selection(select, problem.design)
+    if select is None and not _table_selection_applies(selection, model, n, specs, spec_arcmin, False, quiet):
+        selection = None
+    if selection is not None and (model not in ("contact", "elastic", "transmission") or n is None):
+        raise InputError("--select", str(selection), "allowed with --model contact, elastic or transmission "
+                                                     "(--select none: no selection section)")
+    if selection is not None and not specs and spec_arcmin is None:
+        raise InputError("--select", str(selection), "needs a spec to compare the yields, e.g. "
+                                                     "--spec-lost-motion-arcmin 1 (--select none: no section)")
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         data = api.make_report(problem, samples=n if n is not None else 1, seed=seed, method=method,
                                spec_arcmin=spec_arcmin, specs=specs or None, scenarios=chosen, paper=paper, model=model,
@@ -328,7 +363,8 @@ def report(
                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec,
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
-                               progress=progress, capacity=capacity, efficiency=efficiency, duty_cycle=duty_cycle)
+                               progress=progress, capacity=capacity, efficiency=efficiency, duty_cycle=duty_cycle,
+                               select=selection)
     summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
                "key_numbers": data.key_numbers()}
     rows = data.rows()

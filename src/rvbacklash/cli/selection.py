@@ -42,13 +42,15 @@ def print_sheet(sheet, console) -> None:
 @command
 def assemble(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    parts: str = typer.Option(..., "--parts", help="Measured parts of the batch, CSV: serial,kind,diameter_um (kind "
+    parts: str = typer.Option(..., "--parts", help="Measured parts of the batch, CSV or Parquet: serial,kind,"
+                                                   "diameter_um (kind "
                                                    "pin or roller: a roller set; diameter deviation [um]). With "
                                                    "--generate: the file to write.", metavar="FILE"),
     units: str = typer.Option(..., "--units", help="The batch's measured units (the measured-unit TOML: discs, "
                                                    "housing, crank; pins ignored). With --generate: the file to "
                                                    "write.", metavar="FILE"),
-    select: str = typer.Option(DEFAULT_SELECT, "--select", help="The classes and rules, as simulate --select."),
+    select: Optional[str] = typer.Option(None, "--select", help="The classes and rules, as simulate --select "
+                                         f"(default: the design's [selection] table, else {DEFAULT_SELECT})."),
     spec_lost_motion_arcmin: Optional[float] = typer.Option(None, "--spec-lost-motion-arcmin",
                                                             help="Spec of the lost motion: each unit's P(pass)."),
     assembled: Optional[str] = typer.Option(None, "--assembled", help="Write the built units as assembled (the "
@@ -83,9 +85,9 @@ def assemble(
         return
     if spec_lost_motion_arcmin is not None and not spec_lost_motion_arcmin > 0:
         raise InputError("--spec-lost-motion-arcmin", spec_lost_motion_arcmin, "allowed: a finite number > 0")
-    from rvbacklash.analysis.selection.classes import parse_selection
+    from rvbacklash.analysis.selection.classes import parse_selection, resolve_selection
 
-    selection = parse_selection(select, "--select")
+    selection = resolve_selection(select, api.prepare(design).design) or parse_selection(DEFAULT_SELECT)
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, assembled=assembled)
     sheet, built = api.assemble(design, units=units, parts=parts, select=selection,
                                 spec_lost_motion_arcmin=spec_lost_motion_arcmin)
@@ -95,7 +97,7 @@ def assemble(
         from rvbacklash.design.measured import units_to_toml
 
         return units_to_toml(built, f"the built units of `rvbacklash assemble {design} --units {units} --parts {parts}"
-                                    f" --select {select}`, in sheet order")
+                                    f" --select {selection}`, in sheet order")
 
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows), "--assembled": assembled_toml},
                lambda: print_sheet(sheet, stdout_console()), data, rows)

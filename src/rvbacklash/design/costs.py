@@ -130,12 +130,28 @@ class GroupCost(_Strict):
                           "search chooses among these grades")
 
 
+class SelectionCost(_Strict):
+    """What selective assembly costs per reducer built (``[costs.selection]``; docs/selective-assembly.md):
+    the measuring of the discs and the housing, each class kept (per part kind, beyond the first),
+    and the share of a left-over part set's price that is lost. Fields left out take the defaults of
+    design/data/cost_tolerance.toml ([selection]: assumptions, in the groups' relative units)."""
+
+    measuring_cost_per_unit: float | None = Field(None, ge=0, le=1e12, description="measuring one unit's discs and "
+                                                                                   "housing [cost units]")
+    class_cost: float | None = Field(None, ge=0, le=1e12, description="each class kept beyond the first, per part "
+                                                                      "kind, per unit built [cost units]")
+    surplus_cost_share: float | None = Field(None, ge=0, le=1, description="share of a left-over part set's cost "
+                                                                           "that is lost (0: used later; 1: scrapped)")
+
+
 class Costs(_Strict):
     """The design's ``[costs]`` table: overrides of the default cost model."""
 
     unit: str | None = Field(None, max_length=100, description="unit of the costs (default: relative)")
     only_listed_groups: bool = Field(False, description="true: the groups listed here are the only part groups")
     groups: dict[str, GroupCost] = Field(default_factory=dict, description="part groups by name")
+    selection: SelectionCost | None = Field(None, description="the cost of selective assembly (allocate "
+                                                              "--select-classes)")
 
     @model_validator(mode="before")
     @classmethod
@@ -182,6 +198,24 @@ def default_cost_data() -> dict:
     """The parsed default data file (design/data/cost_tolerance.toml)."""
     text = resources.files("rvbacklash.design").joinpath(DATA_FILE).read_text(encoding="utf-8")
     return tomllib.loads(text)
+
+
+@dataclass(frozen=True)
+class SelectionPrices:
+    """The cost of selective assembly, complete (defaults merged with ``[costs.selection]``)."""
+
+    measuring_cost_per_unit: float
+    class_cost: float
+    surplus_cost_share: float
+
+
+def selection_prices(costs: Costs | None) -> SelectionPrices:
+    """The design's selection costs: ``[costs.selection]`` over the data file's [selection]."""
+    base = dict(default_cost_data()["selection"])
+    if costs is not None and costs.selection is not None:
+        base.update(costs.selection.model_dump(exclude_none=True))
+    return SelectionPrices(float(base["measuring_cost_per_unit"]), float(base["class_cost"]),
+                           float(base["surplus_cost_share"]))
 
 
 def cost_unit(costs: Costs | None) -> str:

@@ -17,6 +17,7 @@ from rvbacklash.design.lubrication import LubricationInputs, ThermalInputs
 from rvbacklash.design.wear import WearInputs
 from rvbacklash.design.costs import Costs
 from rvbacklash.design.elastic import ElasticInputs
+from rvbacklash.design.selection import SelectionInputs
 from rvbacklash.design.structure import StructureInputs, check_structure
 from rvbacklash.factors import distributions
 from rvbacklash.factors.catalog import CATALOG
@@ -303,6 +304,7 @@ class Design(_Strict):
     lubrication: LubricationInputs = LubricationInputs()  # the losses' friction and lubricant (design/lubrication.py)
     thermal: ThermalInputs = ThermalInputs()  # heat balance and thermal expansion (design/lubrication.py)
     wear: WearInputs = WearInputs()  # wear coefficients, running-in (design/wear.py, docs/service-life.md)
+    selection: SelectionInputs | None = None  # selective assembly (design/selection.py, docs/selective-assembly.md)
 
     @model_validator(mode="after")
     def _every_factor_has_a_zone(self) -> "Design":

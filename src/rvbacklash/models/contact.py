@@ -122,6 +122,15 @@ class StageWork(NamedTuple):
     lever_um_per_rad: np.ndarray
 
 
+class FreeInterval(NamedTuple):
+    """The linearised free interval of a unit's turn (unit_gaps, free_interval_bounds): lo <= beta <=
+    hi [rad], and the smallest gap of a pin without a lever [um]."""
+
+    lo_rad: float
+    hi_rad: float
+    flat_um: float
+
+
 class StagePlay(NamedTuple):
     """The cycloid stage's play (stage_play): its free rotation from the assembled position in
     each direction [rad] and the pin (and its disc) that stops it; when preloaded, NaN plays, pins
@@ -611,11 +620,33 @@ def stage_play(coef, stage, unit, gaps, work, play=True):
     unit stops there (plays 0, pins -1): the elastic model reads the gaps, the levers and the
     preload only.
     """
+    lo, hi, flat = unit_gaps(coef, stage, unit, gaps, work)
+    return play_from_gaps(coef, stage, unit, gaps, work, FreeInterval(lo, hi, flat), play)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def shift_pin_radius(coef, unit, gaps, work, j, radius_um):
+    """Pin j's radius error set to ``radius_um`` [um] in a unit whose gaps unit_gaps has found
+    (``gaps``, ``work``): a pin's gap is linear in its radius (pin_base_um) and its lever and centre
+    do not depend on it, so every disc's gap to pin j and the distance at which it closes move by
+    the change, without placing the pins again (selective assembly: the pins swapped after the
+    gaps were read). Call free_interval_bounds afterwards for stage_play's bounds."""
+    delta = radius_um - unit.pin_radius_um[j]
+    unit.pin_radius_um[j] = radius_um
+    for d in range(gaps.gap_um.shape[0]):
+        gaps.gap_um[d, j] -= delta
+        work.closing_distance_mm[d, j] += coef[SIDE, d, j] * delta * 1e-3
+
+
+@njit_borrowing(nogil=True, cache=True)
+def play_from_gaps(coef, stage, unit, gaps, work, free, play):
+    """stage_play of a unit whose gaps unit_gaps has found (``gaps``, ``work``; ``free``: the
+    FreeInterval it returned): everything stage_play does after unit_gaps."""
+    lo, hi, flat = free.lo_rad, free.hi_rad, free.flat_um
     a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
     md = unit.moving_distance_um
     gap, lever = gaps.gap_um, gaps.lever_um_per_rad
     qx_, qy_, est = work.pin_x_mm, work.pin_y_mm, work.estimate_rad
-    lo, hi, flat = unit_gaps(coef, stage, unit, gaps, work)
     preloaded = hi < lo or flat < 0.0
     bc = 0.5 * (lo + hi) if math.isfinite(lo) and math.isfinite(hi) else 0.0
     if not preloaded:

@@ -85,3 +85,29 @@ def print_allocation(result: AllocationResult, console: Console) -> None:
                   f"Pareto front: {len(r.front)} designs (--csv, --plot)", style="dim")
     for note in r.notes:
         console.print(escape(note), style="dim")
+
+
+def print_class_allocation(result, console) -> None:
+    """``allocate --select-classes``: every option of the menu, its grades and its cost per reducer
+    built split into its terms (analysis.allocation.classes), the chosen one marked."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    lines = result.summary()
+    console.print(f"[bold]{escape(lines[0])}[/]")
+    t = Table(title=f"grades and classes: cost per reducer built [{escape(result.unit)}]", title_justify="left")
+    for c in ("", "selection", "grades", "yield", "grades cost", "measuring + classes", "surplus", "total",
+              "pin sets / unit", "roller sets / unit"):
+        t.add_column(c, justify="left" if c in ("", "selection", "grades") else "right")
+
+    def f(v, k=".2f"):
+        return "-" if v is None else format(v, k)
+
+    for o in result.options:
+        grades = " ".join(f"{g}={v}" for g, v in (o.grades or {}).items()) if o.grades else escape(o.note or "-")
+        t.add_row("*" if o.chosen else "", escape(o.selection), grades,
+                  f(o.yield_.fraction if o.yield_ else None, ".4f"), f(o.grades_cost), f(o.selection_cost),
+                  f(o.surplus_cost), f(o.total_cost), f(o.pin_sets_per_unit), f(o.roller_sets_per_unit))
+    console.print(t)
+    for line in lines[len(result.options) + 1:]:
+        console.print(escape(line))

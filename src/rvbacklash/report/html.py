@@ -44,6 +44,13 @@ def render_html(data: ReportData) -> str:
         from rvbacklash.report.efficiency_plots import efficiency_svg
 
         extra.update(efficiency=data.efficiency, efficiency_figure=plots.inline_svg(efficiency_svg(data.efficiency)))
+    if data.selection is not None:
+        extra.update(selection=data.selection)
+        if data.selection_sweep is not None:
+            from rvbacklash.report.selection import class_sweep_svg
+
+            extra.update(selection_sweep=data.selection_sweep,
+                         selection_figure=plots.inline_svg(class_sweep_svg(data.selection_sweep)))
     head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),
             "model_name": headline.model_name(data.model)}
     return env.get_template("report.html.j2").render(

@@ -23,6 +23,7 @@ import numpy as np
 
 from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.allocation import AllocationResult
+from rvbacklash.analysis.allocation.classes import ClassAllocationResult
 from rvbacklash.analysis.bench import BenchResult
 from rvbacklash.analysis.calibration import CalibrationResult
 from rvbacklash.analysis.capacity import CapacityResult
@@ -133,8 +134,10 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
     "analyze": (_stackup, "rvbacklash analyze --json: the linear stack-up"),
     "hysteresis": (_result(HysteresisResult),
                    "rvbacklash hysteresis --json: the test bench's hysteresis loop of one unit"),
-    "allocate": (_result(AllocationResult),
-                 "rvbacklash allocate --json: the cheapest grades that meet the spec"),
+    "allocate": (lambda g: {"anyOf": [g.dataclass_schema(AllocationResult),
+                                      g.dataclass_schema(ClassAllocationResult)]},
+                 "rvbacklash allocate --json: the cheapest grades that meet the spec; with --select-classes, the "
+                 "cheapest grades and classes (options, chosen, allocation; issue 39)"),
     "sensitivity": (_result(SensitivityResult),
                     "rvbacklash sensitivity --json: Sobol indices per factor"),
     "sweep": (_result(SweepResult),

@@ -96,30 +96,37 @@ def draw_chunk(streams, kin_streams, laws, kin_laws, batch, saved):
     their cycloid stage: ``evaluate_chunk``)."""
     units = batch.units
     zp, discs, zc = units.pin_radial_um.shape[1], units.tooth_pitch_um.shape[1], units.tooth_pitch_um.shape[2]
-    planets = units.planet_eccentricity_um.shape[1]
-    unit = empty_unit(zp, zc, discs, planets)
+    unit = empty_unit(zp, zc, discs, units.planet_eccentricity_um.shape[1])
     scratch = draw_scratch(zp, zc)
-    centre, planet, hd, hc = unit.centre_gear_eccentricity_um, unit.planet_eccentricity_um, unit.disc_crank_hole_um, \
-        unit.carrier_crank_hole_um
     steps = np.int64(1)  # one crank-angle step, but not a literal: draw_unit then compiles once for all the kernels
     for s in range(batch.linear_arcmin.size):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
         batch.linear_arcmin[s] = drawn.linear_arcmin
-        for c in range(2):
-            centre[c] = kin_laws.centre_gear_um * _normal(kin_streams, kin_laws.centre_gear_stream, False)
-        for k in range(planets):
-            for c in range(2):
-                planet[k, c] = kin_laws.planet_um * _normal(kin_streams, kin_laws.planet_stream, False)
-        for d in range(discs):
-            for k in range(planets):
-                for c in range(2):
-                    hd[d, k, c] = kin_laws.disc_hole_um * _normal(kin_streams, kin_laws.disc_hole_stream, False)
-        for k in range(planets):
-            for c in range(2):
-                hc[k, c] = kin_laws.carrier_hole_um * _normal(kin_streams, kin_laws.carrier_hole_stream, False)
+        draw_kinematic(kin_streams, kin_laws, unit)
         store_unit(units, s, unit)
         if s < saved.crank_step.size:
             save_unit(saved, s, unit, drawn, np.nan)
+
+
+@njit(nogil=True, cache=True)
+def draw_kinematic(kin_streams, kin_laws, unit):
+    """The kinematic factors of one unit (draw_chunk; ``kin_laws``: KinematicLaws) into ``unit``:
+    the gears' eccentricities and the crank holes of the discs and of the carrier."""
+    centre, planet, hd, hc = unit.centre_gear_eccentricity_um, unit.planet_eccentricity_um, unit.disc_crank_hole_um, \
+        unit.carrier_crank_hole_um
+    planets, discs = planet.shape[0], hd.shape[0]
+    for c in range(2):
+        centre[c] = kin_laws.centre_gear_um * _normal(kin_streams, kin_laws.centre_gear_stream, False)
+    for k in range(planets):
+        for c in range(2):
+            planet[k, c] = kin_laws.planet_um * _normal(kin_streams, kin_laws.planet_stream, False)
+    for d in range(discs):
+        for k in range(planets):
+            for c in range(2):
+                hd[d, k, c] = kin_laws.disc_hole_um * _normal(kin_streams, kin_laws.disc_hole_stream, False)
+    for k in range(planets):
+        for c in range(2):
+            hc[k, c] = kin_laws.carrier_hole_um * _normal(kin_streams, kin_laws.carrier_hole_stream, False)
 
 
 @njit(nogil=True, cache=True)

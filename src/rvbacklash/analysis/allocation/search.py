@@ -46,24 +46,45 @@ class Evaluation:
     yields: dict  # output -> Proportion
     partial: bool
     output: str = "backlash"  # the primary output, whose spec is spec_arcmin
+    pin_sets_per_unit: float = 1.0  # with selective assembly: the part sets bought per unit built
+    roller_sets_per_unit: float = 1.0
 
 
 def evaluate_candidate(task: tuple) -> Evaluation:
-    """Simulate one candidate design (a task of the executor: module-level, picklable arguments)."""
-    design, model, samples, seed, stream, spec_arcmin, specs, workers = task
+    """Simulate one candidate design (a task of the executor: module-level, picklable arguments; a
+    ninth, optional: the Selection its units are assembled with, analysis.selection)."""
+    design, model, samples, seed, stream, spec_arcmin, specs, workers = task[:8]
+    selection = task[8] if len(task) > 8 else None
+    holder: list = []
+    wrap = None
+    if selection is not None:
+        from rvbacklash.analysis.selection.source import selected_source
+
+        def wrap(source, pick=selected_source(selection)):
+            holder.append(pick(source))
+            return holder[-1]
     r = simulate(prepare(design), model=model, samples=samples, seed=seed, stream=stream, spec_arcmin=spec_arcmin,
-                 specs=specs, workers=workers)
+                 specs=specs, workers=workers, wrap=wrap)
     per = {name: o.yield_ for name, o in r.outputs.items() if o.yield_ is not None}
     joint = r.joint_yield if r.joint_yield is not None else r.yield_
-    return Evaluation(joint, per, r.partial, r.output.quantity)
+    sets = (1.0, 1.0)
+    if holder:
+        from rvbacklash.analysis.selection.run import surplus
+
+        src = holder[0]
+        counts = src.class_counts()
+        sets = tuple(surplus(t.share, c / max(c.sum(), 1))[0] for t, c in zip((src.tables.pins, src.tables.rollers),
+                                                                              counts))
+    return Evaluation(joint, per, r.partial, r.output.quantity, float(sets[0]), float(sets[1]))
 
 
 class _Runs:
     """Candidates of a Monte-Carlo search, evaluated through an executor and cached."""
 
     def __init__(self, choices: GradeChoices, model: str, samples: int, seed: int, spec_arcmin: float,
-                 specs: dict | None, executor, workers: int | None, stop, progress):
+                 specs: dict | None, executor, workers: int | None, stop, progress, selection=None):
         self.ch, self.model, self.samples, self.seed = choices, model, samples, seed
+        self.selection = selection  # every candidate's units assembled with it (None: at random)
         self.spec, self.specs, self.stop, self.progress = spec_arcmin, specs, stop, progress
         # in this process: candidates side by side, one thread each, for a run of one block (the
         # default 65536 samples) uses one core only; a lone candidate gets every thread. A
@@ -87,7 +108,7 @@ class _Runs:
             side_by_side = max(1, min(len(todo), self.threads))
             executor, threads = ThreadExecutor(side_by_side), max(1, self.threads // side_by_side)
         tasks = [(self.design(c), self.model, self.samples, self.seed, (stream,), self.spec, self.specs, threads)
-                 for c in todo]
+                 + ((self.selection,) if self.selection is not None else ()) for c in todo]
         out: dict[tuple[int, ...], Evaluation] = {}
         if tasks and not self.stop.is_set():
             for i, ev in executor.map_unordered(evaluate_candidate, tasks, stop=self.stop):
@@ -167,9 +188,11 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
                          spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
                          spec_rated_torque_nm: float | None = None, samples: int = DEFAULT_MC_SAMPLES,
                          seed: int = 0, executor=None, workers: int | None = None, max_evaluations: int = 200,
-                         progress: Callable[[int], None] | None = None) -> AllocationResult:
+                         progress: Callable[[int], None] | None = None, selection=None) -> AllocationResult:
     """Allocation under a Monte-Carlo model (module docstring): common random numbers for every
-    candidate, local search from the linear optimum, verification on an independent stream."""
+    candidate, local search from the linear optimum, verification on an independent stream.
+    ``selection`` (analysis.selection.classes.Selection): every candidate's units assembled with it
+    (the grades-and-classes allocation, allocation.classes)."""
     started = time.perf_counter()
     check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec, spec_life_h,
                   spec_rated_torque_nm)
@@ -195,7 +218,8 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         lin = LinearSolution(None, None, None, 0, False)
     uniform = uniform_grades(ch)
     with stop_requested() as stop:
-        runs = _Runs(ch, model, int(samples), int(seed), float(spec_arcmin), specs, executor, workers, stop, progress)
+        runs = _Runs(ch, model, int(samples), int(seed), float(spec_arcmin), specs, executor, workers, stop, progress,
+                     selection)
         # the linear optimum and every uniform grade (the baseline) first; the search starts from the
         # cheapest of them that is feasible, else from the linear optimum (or the finest grades)
         first_batch = ([lin.grades] if lin.grades is not None else []) + [c for _, c in uniform]

@@ -105,41 +105,68 @@ class AssemblySheet(Result):
 
 
 def read_parts(path: str | Path) -> list[Part]:
-    """The measured parts of a batch: a CSV with columns serial, kind (pin | roller), diameter_um
-    (the deviation of the diameter from nominal [um]); every error names the file, row and column."""
+    """The measured parts of a batch: a CSV, or a Parquet file, with columns serial, kind (pin |
+    roller), diameter_um (the deviation of the diameter from nominal [um]); every error names the
+    file, row (Parquet: record) and column."""
     p = Path(path)
     if not p.is_file():
-        raise InputError("--parts", str(path), "allowed: an existing CSV file of measured parts")
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as e:
-        raise InputError("--parts", str(path), f"not readable as UTF-8 text ({type(e).__name__})") from None
-    rows = list(csv.reader(text.splitlines()))
-    if not rows or [c.strip().lower() for c in rows[0]] != list(PART_COLUMNS):
-        raise InputError(f"{path} header", ",".join(rows[0]) if rows else "", f"allowed: {','.join(PART_COLUMNS)}")
+        raise InputError("--parts", str(path), "allowed: an existing CSV or Parquet file of measured parts")
+    if p.suffix.lower() == ".parquet" or _starts_with(p, b"PAR1"):
+        header, rows, row_name = _parquet_rows(p)
+    else:
+        try:
+            text = p.read_text(encoding="utf-8-sig")
+        except (OSError, UnicodeDecodeError) as e:
+            raise InputError("--parts", str(path), f"not readable as UTF-8 text ({type(e).__name__})") from None
+        table = list(csv.reader(text.splitlines()))
+        header, rows, row_name = (table[0] if table else []), list(enumerate(table[1:], start=2)), "row"
+    if not header or [c.strip().lower() for c in header] != list(PART_COLUMNS):
+        raise InputError(f"{path} header", ",".join(header), f"allowed: {','.join(PART_COLUMNS)}")
     parts, seen = [], set()
-    for i, row in enumerate(rows[1:], start=2):
+    for i, row in rows:
         if not any(c.strip() for c in row):
             continue
         if len(row) != 3:
-            raise InputError(f"{path} row {i}", ",".join(row), "allowed: 3 columns serial,kind,diameter_um")
+            raise InputError(f"{path} {row_name} {i}", ",".join(row), "allowed: 3 columns serial,kind,diameter_um")
         serial, kind, value = (c.strip() for c in row)
         if not serial or serial in seen:
-            raise InputError(f"{path} row {i} column serial", serial, "allowed: a non-empty serial, each once")
+            raise InputError(f"{path} {row_name} {i} column serial", serial, "allowed: a non-empty serial, each once")
         if kind not in PART_KINDS:
-            raise InputError(f"{path} row {i} column kind", kind, f"allowed: {', '.join(PART_KINDS)}")
+            raise InputError(f"{path} {row_name} {i} column kind", kind, f"allowed: {', '.join(PART_KINDS)}")
         try:
             d = float(value)
         except ValueError:
             d = math.nan
         if not (math.isfinite(d) and abs(d) <= LIMIT_UM):
-            raise InputError(f"{path} row {i} column diameter_um", value,
+            raise InputError(f"{path} {row_name} {i} column diameter_um", value,
                              f"allowed: a finite deviation within +-{LIMIT_UM:g} um")
         seen.add(serial)
         parts.append(Part(serial, kind, d))
     if not parts:
-        raise InputError("--parts", str(path), "no parts: allowed a CSV with one row per pin and per roller set")
+        raise InputError("--parts", str(path), "no parts: allowed a file with one row per pin and per roller set")
     return parts
+
+
+def _starts_with(p: Path, magic: bytes) -> bool:
+    with p.open("rb") as f:
+        return f.read(len(magic)) == magic
+
+
+def _parquet_rows(p: Path) -> tuple[list[str], list[tuple[int, list[str]]], str]:
+    """A Parquet file's column names and its records as text cells (read_parts checks them as it
+    checks a CSV's), numbered from 1."""
+    try:
+        import pyarrow.parquet as pq
+    except ImportError:  # pragma: no cover - pyarrow comes with the sweep extra
+        raise InputError("--parts", str(p), "a Parquet file needs pyarrow: pip install 'rvbacklash[sweep]' (or give "
+                                            "a CSV)") from None
+    try:
+        table = pq.read_table(p)
+    except Exception as e:  # noqa: BLE001 - pyarrow's errors are many; the message says which file
+        raise InputError("--parts", str(p), f"not readable as Parquet ({type(e).__name__})") from None
+    columns = [table.column(i).to_pylist() for i in range(table.num_columns)]
+    rows = [(k + 1, ["" if col[k] is None else str(col[k]) for col in columns]) for k in range(table.num_rows)]
+    return list(table.column_names), rows, "record"
 
 
 def write_parts_csv(parts: list[Part]) -> str:

@@ -35,17 +35,23 @@ U_POINTS = 513  # each class's inverse cdf table
 MAX_CLASSES = 500
 PART_KINDS = ("pins", "rollers")
 SELECT_SYNTAX = ("pins=COUNTxWIDTHum[,rollers=COUNTxWIDTHum][,noise=SIGMAum][,play=[MIN:]MAX][,target=ARCMIN] "
-                 "(play and target in arcmin)")
+                 "(play and target in arcmin; a class set may instead be its boundaries, e.g. pins=-4,-2,0,2,4um)")
 
 
 @dataclass(frozen=True, repr=False)
 class ClassSet(Result):
-    """``count`` diameter classes of ``width_um`` each (the outer two open-ended)."""
+    """``count`` diameter classes of ``width_um`` each (the outer two open-ended), centred on the
+    part's mean; or, with ``boundaries_um``, the classes between those diameter deviations (the
+    outer two open-ended: count = boundaries + 1; pins: deviations from the nominal diameter;
+    rollers: from the rollers' mean diameter, the model's clearance law standing for them) [um]."""
 
     count: int
     width_um: float
+    boundaries_um: tuple[float, ...] | None = None
 
     def __str__(self) -> str:
+        if self.boundaries_um is not None:
+            return ",".join(f"{b:g}" for b in self.boundaries_um) + "um"
         return f"{self.count}x{self.width_um:g}um"
 
 
@@ -90,7 +96,13 @@ def parse_selection(text: str, name: str = "--select") -> Selection:
     if not isinstance(text, str) or not text.strip():
         raise InputError(name, text, f"allowed: {SELECT_SYNTAX}")
     seen: dict[str, object] = {}
-    for item in text.split(","):
+    items: list[str] = []
+    for piece in text.split(","):  # a class set's boundaries carry on the item before them: pins=-4,-2,0um
+        if "=" not in piece and items and items[-1].partition("=")[0].strip() in PART_KINDS:
+            items[-1] += "," + piece
+        else:
+            items.append(piece)
+    for item in items:
         key, eq, value = (s.strip() for s in item.partition("="))
         if not eq or not key or not value:
             raise InputError(name, text, f"'{item.strip()}' is not key=value; allowed: {SELECT_SYNTAX}")
@@ -98,9 +110,10 @@ def parse_selection(text: str, name: str = "--select") -> Selection:
             raise InputError(name, text, f"key '{key}' is given twice; allowed: each key once")
         if key in PART_KINDS:
             m = _CLASSES.match(value)
-            if not m:
-                raise InputError(name, text, f"'{item.strip()}': allowed {key}=COUNTxWIDTHum, e.g. {key}=5x2um")
-            seen[key] = class_set(int(m.group(1)), float(m.group(2)), f"{name} {key}")
+            if m:
+                seen[key] = class_set(int(m.group(1)), float(m.group(2)), f"{name} {key}")
+            else:
+                seen[key] = class_boundaries(value, f"{name} {key}")
         elif key == "play":
             lo, colon, hi = value.partition(":")
             try:
@@ -130,6 +143,23 @@ def class_set(count: int, width_um: float, name: str) -> ClassSet:
     return ClassSet(int(count), float(width_um))
 
 
+def class_boundaries(text: str, name: str) -> ClassSet:
+    """``-4,-2,0,2,4um`` (diameter deviations [um], increasing) -> the ClassSet between them."""
+    body = text.strip()
+    try:
+        if not body.endswith("um"):  # a bare number is more likely a count without its width than a boundary
+            raise ValueError
+        cuts = tuple(float(x) for x in body.removesuffix("um").split(","))
+    except ValueError:
+        raise InputError(name, text, "allowed: COUNTxWIDTHum (e.g. 5x2um) or increasing diameter boundaries "
+                                     "ending in um (e.g. -4,-2,0,2,4um)") from None
+    if not all(math.isfinite(c) for c in cuts) or any(b <= a for a, b in zip(cuts, cuts[1:])):
+        raise InputError(name, text, "allowed: finite boundaries [um], strictly increasing")
+    if len(cuts) + 1 > MAX_CLASSES:
+        raise InputError(name, text, f"allowed: at most {MAX_CLASSES - 1} boundaries")
+    return ClassSet(len(cuts) + 1, 0.0, cuts)
+
+
 def make_selection(pins: ClassSet | None = None, rollers: ClassSet | None = None, noise_um: float = 0.0,
                    play_arcmin: tuple[float, float] = (-math.inf, 0.0), target_arcmin: float | None = None,
                    name: str = "selection") -> Selection:
@@ -146,6 +176,38 @@ def make_selection(pins: ClassSet | None = None, rollers: ClassSet | None = None
                                                                               " [arcmin]"))
     return Selection(pins or ClassSet(1, 0.0), rollers or ClassSet(1, 0.0), float(noise_um),
                      float(lo), float(hi), None if target_arcmin is None else float(target_arcmin))
+
+
+def design_selection(inputs) -> Selection:
+    """The design's ``[selection]`` table (design.selection.SelectionInputs) as a Selection; an error
+    names ``selection.<field>``."""
+    def classes(key: str) -> ClassSet | None:
+        value = getattr(inputs, key)
+        if value is None:
+            return None
+        m = _CLASSES.match(value)
+        if m:
+            return class_set(int(m.group(1)), float(m.group(2)), f"selection.{key}")
+        return class_boundaries(value, f"selection.{key}")
+
+    pins, rollers = classes("pins"), classes("rollers")
+    if pins is None and rollers is None:
+        raise InputError("selection", "pins and rollers not given", "allowed: pins = \"5x2um\" and/or rollers = "
+                                                                    "\"3x2um\"")
+    lo = inputs.play_min_arcmin if inputs.play_min_arcmin is not None else -math.inf
+    return make_selection(pins, rollers, inputs.noise_um, (lo, inputs.play_max_arcmin), inputs.target_arcmin,
+                          name="selection")
+
+
+def resolve_selection(flag: str | None, design, name: str = "--select") -> Selection | None:
+    """The selection a command runs: ``flag`` (the ``--select`` string) if given ("none": random
+    assembly even if the design has a [selection] table), else the design's table, else None."""
+    if flag is not None:
+        if flag.strip().lower() == "none":
+            return None
+        return parse_selection(flag, name)
+    inputs = getattr(design, "selection", None)
+    return design_selection(inputs) if inputs is not None else None
 
 
 def as_selection(select) -> Selection | None:
@@ -194,6 +256,12 @@ def band_edges_um(law, classes: ClassSet, scale: float) -> np.ndarray:
     the inner cuts ``scale`` x width apart (scale: factor um per diameter um), centred on the mean."""
     k = classes.count
     lo, hi = law.support()
+    if classes.boundaries_um is not None:
+        cuts = np.asarray(classes.boundaries_um, float)
+        # pins (scale 1/2: the radius): the nominal's deviations; rollers (scale 1: the clearance they
+        # close): the clearance law's mean less the rollers' deviation from their mean
+        inner = scale * cuts if scale < 1.0 else np.sort(law.mean() - cuts)
+        return np.concatenate([[lo], inner, [hi]])
     inner = law.mean() + scale * classes.width_um * (np.arange(1, k) - 0.5 * k)
     return np.concatenate([[lo], inner, [hi]])
 

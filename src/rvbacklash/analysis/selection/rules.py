@@ -56,17 +56,50 @@ def _better(e, c, best, best_c, k):
 
 
 @njit(nogil=True, cache=True)
-def pin_class_rule(gap, lever, radius, pins, noise_um, window, tol):
+def class_plays_arcmin(gap, lever, radius, shifts_um, tol, out):
+    """P(s) [arcmin] at every shift of ``shifts_um`` (k,) [um] into ``out`` (2, k) (row 0: P; row 1:
+    scratch), in one pass over the pins: P is piecewise linear in s (module docstring), each pin
+    bounding the turn by a line (g0_j - s) / lever_j = a_j - b_j s, so one division per pin serves
+    every class (``predicted_play_arcmin`` divides once per pin and class)."""
+    k = shifts_um.size
+    hi, lo = out[0], out[1]
+    for c in range(k):
+        hi[c] = np.inf
+        lo[c] = -np.inf
+    discs, zp = gap.shape
+    for d in range(discs):
+        for j in range(zp):
+            lv = lever[d, j]
+            if lv > tol:
+                b = 1.0 / lv
+                a = (gap[d, j] + radius[j]) * b
+                for c in range(k):
+                    hi[c] = min(hi[c], a - b * shifts_um[c])
+            elif lv < -tol:
+                b = 1.0 / lv
+                a = (gap[d, j] + radius[j]) * b
+                for c in range(k):
+                    lo[c] = max(lo[c], a - b * shifts_um[c])
+    for c in range(k):
+        hi[c] = (hi[c] - lo[c]) * ARCMIN_PER_RAD
+
+
+@njit(nogil=True, cache=True)
+def pin_class_rule(gap, lever, radius, pins, noise_um, window, tol, scratch):
     """The pin class whose mean radius brings the unit's predicted play (read with the measurement
     error ``noise_um``) into ``window`` (lo, hi) [arcmin], or nearest it; among the classes that do
     equally well, the one nearest the middle; a class no part falls in (share 0) is never taken.
-    Returns (class, its predicted play [arcmin])."""
+    ``scratch``: (3, k) floats. Returns (class, its predicted play [arcmin])."""
     k = pins.mean_um.size
+    shifts, plays = scratch[2], scratch[:2]
+    for c in range(k):
+        shifts[c] = pins.mean_um[c] + noise_um
+    class_plays_arcmin(gap, lever, radius, shifts, tol, plays)
     best, best_c, best_p = np.inf, -1, 0.0
     for c in range(k):
         if pins.share[c] <= 0.0:
             continue
-        p = predicted_play_arcmin(gap, lever, radius, pins.mean_um[c] + noise_um, tol)
+        p = plays[0, c]
         e = window_distance(p, window[0], window[1])
         if best_c < 0 or _better(e, c, best, best_c, k):
             best, best_c, best_p = e, c, p
@@ -94,8 +127,19 @@ def roller_class_rule(play_arcmin, rollers, sens_arcmin_per_um, target_arcmin):
 @njit(nogil=True, cache=True)
 def in_class_um(x_um, table, c):
     """A part drawn as ``x_um`` from the law, taken from class c instead: the class's part at the same
-    quantile (the law's cdf, then the class band's inverse cdf; ``classes.ClassTable``)."""
-    u = np.interp(x_um, table.x_um, table.cdf)
+    quantile (the law's cdf, then the class band's inverse cdf; ``classes.ClassTable``). The cdf's
+    grid is uniform (classes.class_table): its cell is found by a division, not a search."""
+    x = table.x_um
+    n = x.size
+    t = (x_um - x[0]) / (x[n - 1] - x[0]) * (n - 1)
+    if t <= 0.0:
+        u = table.cdf[0]
+    elif t >= n - 1:
+        u = table.cdf[n - 1]
+    else:
+        i = min(int(t), n - 2)
+        f = t - i
+        u = table.cdf[i] + f * (table.cdf[i + 1] - table.cdf[i])
     k = table.ppf_um.shape[1]
     t = u * k - 0.5
     i = min(max(int(math.floor(t)), 0), k - 2)

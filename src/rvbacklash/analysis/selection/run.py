@@ -19,7 +19,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from rvbacklash.analysis.selection.classes import ClassSet, ClassTable, Selection, band_edges_um
-from rvbacklash.analysis.selection.source import SelectedElasticSource, selected_source
+from rvbacklash.analysis.selection.source import SelectedSource, selected_source
 from rvbacklash.analysis.simulation import SimulationResult, simulate
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.errors import InputError
@@ -140,11 +140,11 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
                       quantiles: tuple[float, ...] = (), workers: int | None = None, model: str = "elastic",
                       progress: Callable[[int], None] | None = None, error_model: str | None = None,
                       save_units: int = 0) -> SelectionResult:
-    """The run of ``model`` (elastic) with random assembly, then with ``selection``: the same seed
+    """The run of ``model`` (elastic, contact or transmission) with random assembly, then with
+    ``selection``: the same seed
     and units (module docstring). ``save_units`` keeps the selected run's first units."""
-    if model != "elastic":
-        raise InputError("model", model, "allowed with selection: elastic (the contact and transmission models: "
-                                         "not yet)")
+    if model not in ("elastic", "contact", "transmission"):
+        raise InputError("model", model, "allowed with selection: elastic, contact, transmission")
     if not (specs or spec_arcmin is not None):
         raise InputError("specs", None, "selection needs a spec to compare yields: e.g. --spec-lost-motion-arcmin 1")
     kw = dict(samples=samples, seed=seed, spec_arcmin=spec_arcmin, specs=specs, quantiles=quantiles, workers=workers,
@@ -156,7 +156,14 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
             progress(samples + done)
 
     random = simulate(problem, progress=first, **kw)
-    holder: list[SelectedElasticSource] = []
+    return selected_beside(problem, selection, random, progress=second, save_units=save_units, **kw)
+
+
+def selected_beside(problem: Problem, selection: Selection, random: SimulationResult, *,
+                    progress: Callable[[int], None] | None = None, save_units: int = 0, **kw) -> SelectionResult:
+    """The selected run beside a random run already made (``random``: the run of ``simulate`` with the
+    same ``kw``: samples, seed, specs, model...; the report's run), the same units."""
+    holder: list[SelectedSource] = []
     wrap = selected_source(selection)
 
     def keep(source):
@@ -164,18 +171,18 @@ def simulate_selected(problem: Problem, selection: Selection, *, samples: int, s
         holder.append(s)
         return s
 
-    selected = simulate(problem, progress=second, save_units=save_units, wrap=keep, **kw)
+    selected = simulate(problem, progress=progress, save_units=save_units, wrap=keep, **kw)
     src = holder[0]
     return selection_result(problem, selection, random, selected, src)
 
 
 def selection_result(problem: Problem, selection: Selection, random: SimulationResult, selected: SimulationResult,
-                     src: SelectedElasticSource) -> SelectionResult:
+                     src: SelectedSource) -> SelectionResult:
     from rvbacklash.analysis.selection.classes import factor_law
     from rvbacklash.analysis.selection.source import PIN_RADIUS
     from rvbacklash.sampling.unit_draw import CRANK_CLEARANCE
 
-    laws = src.base.contact.laws
+    laws = src.contact.laws
 
     def edges(f: int, classes: ClassSet, scale: float) -> np.ndarray:
         law = factor_law(int(laws.code[f]), float(laws.loc[f]), float(laws.scale[f]), float(laws.lower[f]),
@@ -232,14 +239,18 @@ class ClassSweep(Result):
 
 def class_sweep(problem: Problem, *, counts=(1, 3, 5, 7, 9), widths=(1.0, 2.0, 4.0), noises=(0.0,),
                 rollers: ClassSet = ClassSet(3, 2.0), samples: int = 4000, seed: int = 0,
-                specs: Mapping[str, float] | None = None, workers: int | None = None) -> ClassSweep:
+                specs: Mapping[str, float] | None = None, workers: int | None = None,
+                model: str = "elastic") -> ClassSweep:
     """The yield of ``specs``' first output for every (pin classes, width, noise) (module docstring:
-    the same seed, the same units), beside random assembly."""
+    the same seed, the same units), beside random assembly; ``model``: elastic, contact or
+    transmission."""
     from rvbacklash.analysis.selection.classes import make_selection
 
     specs = dict(specs or {"lost_motion": 1.0})
     name = next(iter(specs))
-    base = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model="elastic")
+    if model not in ("elastic", "contact", "transmission"):
+        raise InputError("model", model, "allowed with selection: elastic, contact, transmission")
+    base = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model=model)
     points = []
     for noise in noises:
         for width in widths:
@@ -251,7 +262,7 @@ def class_sweep(problem: Problem, *, counts=(1, 3, 5, 7, 9), widths=(1.0, 2.0, 4
                     holder.append(wrap(source))
                     return holder[-1]
 
-                run = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model="elastic",
+                run = simulate(problem, samples=samples, seed=seed, specs=specs, workers=workers, model=model,
                                wrap=keep)
                 r = selection_result(problem, sel, base, run, holder[0])
                 points.append(ClassSweepPoint(int(k), float(width), float(noise), run.outputs[name].yield_,

@@ -446,6 +446,55 @@ async function secondary(id) {
     }).then(() => { if (id === state.seq && $("#efficiency-error").textContent) $("#efficiency-status").textContent = ""; });
   }
   if (m === "transmission") figure("/api/transmission-error", {}, "#te-error", renderTe);
+  updateSelection(id);
+}
+
+// the selection card: the run's units assembled at random and with the classes, side by side (a what-if
+// of the assembly, beside the what-ifs of the design); models that draw parts, with a spec
+function updateSelection(id) {
+  const m = model();
+  const specs = specsForModel();
+  const shown = m !== "linear" && Object.keys(specs).length > 0;
+  $("#selection-section").hidden = !shown;
+  if (!shown) return;
+  $("#selection-status").textContent = "computing…";
+  $("#selection-error").textContent = "";
+  post("/api/selection", { ...runBody(), select: $("#select").value, request_id: id,
+                           channel: PAGE + "-selection" }).then(async (r) => {
+    if (id !== state.seq || r.status === 409) return;
+    $("#selection-status").textContent = "";
+    if (!r.ok) {
+      const err = await errorOf(r);
+      $("#selection-card").replaceChildren();
+      if (!$("#select").value.trim() && err.field === "select") {  // nothing asked, no [selection] in the design
+        $("#selection-card").append(el("div", { class: "note", text: "enter classes (e.g. pins=5x2um,rollers=3x2um) to " +
+          "see the same units selected" }));
+      } else $("#selection-error").textContent = err.error;
+      return;
+    }
+    renderSelection(await r.json());
+    document.body.dataset.selectionShown = String(id);
+  });
+}
+
+function renderSelection(s) {
+  const pct = (p) => p ? `${(100 * p.fraction).toFixed(2)} %` : "–";
+  const t = el("table", { class: "plain" }, el("tr", {}, ...["spec", "random assembly", "selected", "gain"].map(
+    (x) => el("th", { text: x }))));
+  for (const y of s.yields) {
+    const spec = y.output === "joint" ? "every spec (joint)" : `${y.output.replace(/_/g, " ")} ${y.output === "rigidity" ? "≥" : "≤"} ${y.spec}`;
+    t.append(el("tr", {}, el("td", { text: spec }),
+      el("td", {}, el("span", { "data-key": `selection.${y.output}.random`, "data-value": String(y.random.fraction), text: pct(y.random) })),
+      el("td", {}, el("span", { "data-key": `selection.${y.output}.selected`, "data-value": String(y.selected.fraction), text: pct(y.selected) })),
+      el("td", { text: `${(100 * (y.selected.fraction - y.random.fraction)).toFixed(2)} points` })));
+  }
+  $("#selection-card").replaceChildren(
+    el("h3", { text: `${s.design_name}: ${s.selection.pins.count} pin classes, ${s.selection.rollers.count} roller classes`,
+               title: "rvbacklash simulate --select (docs/selective-assembly.md)" }), t,
+    el("div", { class: "note", text: `parts bought per unit built: pins ${s.pin_sets_per_unit.toFixed(2)} sets ` +
+      `(${(100 * s.pin_surplus_fraction).toFixed(1)} % left over), rollers ${s.roller_sets_per_unit.toFixed(2)} ` +
+      `(${(100 * s.roller_surplus_fraction).toFixed(1)} % left over); ${s.samples_done} units, seed ${s.seed}; ` +
+      `the command line: rvbacklash simulate --select` }));
 }
 
 // the efficiency card and the temperature card: `rvbacklash efficiency --json --duty-cycle robot-joint` of the
@@ -606,6 +655,7 @@ async function start() {
   $("#model").addEventListener("change", () => { buildSpecs(); update(); });
   $("#samples").addEventListener("change", update);
   $("#seed").addEventListener("change", update);
+  $("#select").addEventListener("change", () => updateSelection(state.seq));
   $("#run-sobol").addEventListener("click", () => onDemand("/api/sensitivity",
     { model: model() === "transmission" ? "contact" : model(), samples: numberOf($("#sobol-n")), seed: numberOf($("#seed")) },
     async (r) => renderSobol(await r.json()), $("#sobol-group")));
