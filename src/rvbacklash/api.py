@@ -9,6 +9,7 @@ result (``to_dict()``, ``to_frame()``). All arguments after the design are keywo
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Iterable, Mapping, Union
@@ -452,7 +453,7 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     return dataclasses.replace(result, production=run)
 def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[float] = (0.0, 1000.0, 6000.0),
                  spec_lost_motion_arcmin: float = 1.5, samples: int = 2000, seed: int = 0, angles: int | None = None,
-                 step_fraction: float | None = None,
+                 step_fraction: float | None = None, unit_wear: str = "own",
                  progress: Callable[[str, float], None] | None = None) -> "ServiceLifeResult":
     """Precision over the service life (docs/service-life.md): the nominal unit's lost motion, backlash
     and rigidity after ``hours`` of the duty cycle ``duty_cycle`` (a CSV or TOML file, or the name of an
@@ -460,8 +461,9 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
     the production run (seeded by ``seed``; 0: none): their yield against ``spec_lost_motion_arcmin``
     versus hours and their accuracy life. ``angles``: crank angles per revolution of each step's loads
     (default 12); ``step_fraction``: the largest wear depth per time step as a share of the reference
-    clearance (default 0.1). The design needs [elastic]; its [wear] table (optional) sets the wear
-    coefficients and running-in (design/wear.py)."""
+    clearance (default 0.1); ``unit_wear``: "own" (each unit's wear from its discs' own load shares,
+    re-solved every step) or "nominal" (every unit wears as the nominal unit). The design needs
+    [elastic]; its [wear] table (optional) sets the wear coefficients and running-in (design/wear.py)."""
     from rvbacklash.analysis.service_life.datasheet import service_life as _service_life
     from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION
     from rvbacklash.design.duty_cycle import read_duty_cycle
@@ -471,20 +473,37 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
                          spec_lost_motion_arcmin=spec_lost_motion_arcmin,
                          angles=DEFAULT_ANGLES if angles is None else angles,
                          step_fraction=DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
-                         progress=progress)
+                         unit_wear=unit_wear, progress=progress)
 
 
-def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]],
-                   sigma_arcmin: float = 0.01) -> "WearCalibration":
+def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]] = (),
+                   sigma_arcmin: float | None = None, bench=None, hours: Iterable[float] | None = None,
+                   torque_unit: str | None = None, angle_unit: str | None = None, time_unit: str | None = None,
+                   columns: str | dict | None = None, format_profile: str | Path | None = None,
+                   decimal: str | None = None) -> "WearCalibration":
     """The wear coefficients' common scale (k = s k_design) fitted, with a 95 % interval, to one unit's lost
-    motion measured at 0 h and after some hours of ``duty_cycle`` (``measurements``: (hours, lost motion
-    [arcmin]) pairs, e.g. the ``bench`` command's readings of its loops; ``sigma_arcmin``: one reading's
-    repeatability). docs/service-life.md, "Calibration"."""
+    motion measured at 0 h and after some hours of ``duty_cycle``: ``measurements`` (hours, lost motion
+    [arcmin]) pairs, or ``bench`` the unit's measured loops (files read as ``read_bench`` reads them,
+    with the rig-format arguments) at ``hours`` (one per file, the first 0). ``sigma_arcmin``: one
+    reading's repeatability (default: from the loops, the largest standard uncertainty u = U / 2 of
+    their lost motions; 0.01 arcmin for ``measurements``). ``result.design`` is the calibrated design.
+    docs/service-life.md, "Calibration"."""
     from rvbacklash.analysis.service_life.calibration import calibrate_wear as _calibrate
     from rvbacklash.design.duty_cycle import read_duty_cycle
 
-    return _calibrate(prepare(design), read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
-                      sigma_arcmin=sigma_arcmin)
+    problem = prepare(design)
+    sources: tuple[str, ...] = ()
+    if bench is not None:
+        from rvbacklash.analysis.service_life.calibration import bench_measurements
+
+        files = [bench] if isinstance(bench, (str, Path)) else list(bench)
+        read = read_bench(files, torque_unit=torque_unit, angle_unit=angle_unit, time_unit=time_unit,
+                          columns=columns, format_profile=format_profile, decimal=decimal)
+        measurements, sigma_read, sources = bench_measurements(read, None if hours is None else list(hours))
+        sigma_arcmin = sigma_read if sigma_arcmin is None else sigma_arcmin
+    result = _calibrate(problem, read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
+                        sigma_arcmin=0.01 if sigma_arcmin is None else sigma_arcmin)
+    return dataclasses.replace(result, sources=sources) if sources else result
 
 
 def example_duty_cycle(path: str | Path) -> Path:

@@ -67,7 +67,9 @@ def print_service_life(r, console) -> None:
         console.print(f"accuracy life (hours until lost motion > {prod.spec_lost_motion_arcmin:g} arcmin), quantiles "
                       f"of the run: {life}; {prod.out_at_start:,} units out at 0 h, {prod.still_in_spec:,} still in "
                       f"at {last:,.0f} h")
-        console.print("[dim]each unit is read with the nominal unit's wear (docs/service-life.md)[/]")
+        how = ("its own wear: the nominal unit's scaled by its discs' own load shares, re-solved every step"
+               if prod.unit_wear == "own" else "the nominal unit's wear")
+        console.print(f"[dim]each unit is read with {how} (docs/service-life.md)[/]")
 
 
 @app.command("service-life")
@@ -89,6 +91,9 @@ def service_life(
                                                                "(default 12)."),
     step_fraction: Optional[float] = typer.Option(None, "--step-fraction", help="Largest wear depth per time step as "
                                                   "a share of the reference clearance (default 0.1)."),
+    unit_wear: str = typer.Option("own", "--unit-wear", help="The production run's units: 'own' (each unit's wear "
+                                  "from its discs' own load shares, re-solved every step) or 'nominal' (every unit "
+                                  "wears as the nominal unit)."),
     json_out: Optional[str] = json_option("the nominal unit's trajectory, wear rates, worn flank and the production "
                                           "run"),
     csv_out: Optional[str] = csv_option("one row per asked hour (nominal unit and production run)"),
@@ -119,7 +124,8 @@ def service_life(
 
         result = api.service_life(design, duty_cycle=duty_cycle, hours=wanted,
                                   spec_lost_motion_arcmin=spec_lost_motion_arcmin, samples=n, seed=seed,
-                                  angles=angles, step_fraction=step_fraction, progress=progress)
+                                  angles=angles, step_fraction=step_fraction, unit_wear=unit_wear,
+                                  progress=progress)
     data = result.to_dict()
     rows = _rows(result)
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),

@@ -18,6 +18,8 @@ from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model
 from rvbacklash.problem import Problem
 
+UNIT_WEAR = ("own", "nominal")  # the production run's units: their own wear, or the nominal unit's
+
 SLIDING = {
     "cycloid flanks": "relative to the pins the disc turns about the pitch point P: |v| = |omega_disc| |P P_c|; "
                       "the flank takes (1 - pin_rolling_fraction) of it",
@@ -47,16 +49,19 @@ def _rates(rate: WearIncrement, geo) -> tuple[ContactWearRate, ...]:
 
 def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0, seed: int = 0,
                  spec_lost_motion_arcmin: float = 1.5, angles: int = DEFAULT_ANGLES,
-                 step_fraction: float = DEFAULT_STEP_FRACTION,
+                 step_fraction: float = DEFAULT_STEP_FRACTION, unit_wear: str = "own",
                  progress: Callable[[str, float], None] | None = None) -> ServiceLifeResult:
     """The ServiceLifeResult of a design under a duty cycle at ``hours`` (module docstring);
-    ``samples`` units of the production run (0: none). ``progress(stage, share)``."""
+    ``samples`` units of the production run (0: none), each with its own wear (``unit_wear`` "own") or
+    the nominal unit's ("nominal"; production.py). ``progress(stage, share)``."""
     targets = check_hours(hours)
     if not (isinstance(spec_lost_motion_arcmin, (int, float)) and math.isfinite(spec_lost_motion_arcmin)
             and spec_lost_motion_arcmin > 0.0):
         raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0 [arcmin]")
     if not (isinstance(samples, int) and samples >= 0):
         raise InputError("samples", samples, "allowed: 0 (the nominal unit only) or a number of units >= 1")
+    if unit_wear not in UNIT_WEAR:
+        raise InputError("unit_wear", unit_wear, f"allowed: {', '.join(UNIT_WEAR)}")
     model = elastic_model(problem)
     tr = nominal_trajectory(problem, cycle, targets, angles=angles, step_fraction=step_fraction, model=model,
                             progress=(lambda s: progress("nominal", s)) if progress else None)
@@ -65,7 +70,7 @@ def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0,
     if samples and not tr.partial:
         production = production_life(problem, tr, [p.hours for p in points], samples=samples, seed=seed,
                                      spec_lost_motion_arcmin=spec_lost_motion_arcmin, model=model,
-                                     progress=(lambda n: progress("units", n / samples)) if progress else None)
+                                     own_wear=unit_wear == "own", progress=(lambda n: progress("units", n / samples)) if progress else None)
     geo = tr.geometry
     profile = FlankProfile(tr.hours[-1], tuple(float(v) for v in np.degrees(geo.phase_rad)),
                            tuple(tuple(float(v) for v in d) for d in tr.wear[-1].flank_um))

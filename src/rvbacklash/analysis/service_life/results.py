@@ -47,11 +47,13 @@ class FlankProfile(Result):
 
 @dataclass(frozen=True, repr=False)
 class ProductionLife(Result):
-    """A production run's precision over the service life: each unit read with the nominal unit's wear
-    at every step of its trajectory (docs/service-life.md: what this shortcut leaves out)."""
+    """A production run's precision over the service life: each unit read at every step of the nominal
+    unit's trajectory with its own wear (its discs' load shares scale the nominal unit's wear) or the
+    nominal unit's (docs/service-life.md)."""
 
     units: int
     seed: int
+    unit_wear: str  # "own": each unit's wear from its own discs' load shares; "nominal": the nominal unit's wear
     spec_lost_motion_arcmin: float
     hours: tuple[float, ...]  # the requested hours
     yield_at_hours: tuple[Proportion, ...]  # lost motion <= spec, 95 % Wilson intervals
