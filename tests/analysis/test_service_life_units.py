@@ -125,3 +125,21 @@ def test_own_wear_follows_each_units_full_stepping(rv80e):
     e_short = np.abs(shortcut[-1] - shortcut[0] - full)
     assert e_own.sum() < 0.4 * e_short.sum()
     assert np.all(e_own < 0.35 * full)
+
+
+def test_the_compiled_pin_growth_is_the_profile_wear_read_at_the_pins(rv80e):
+    from rvbacklash.analysis.service_life.units import growth_at_pins, profile_tables
+    from rvbacklash.models.wear_kernel import pins_growth_um
+
+    problem, model, _ = rv80e
+    for inputs in (problem.design.wear, problem.design.wear.model_copy(update={"pin_rolling_fraction": 0.0})):
+        geo = wear_geometry(problem, model, inputs)
+        rng = np.random.default_rng(2)
+        chi = rng.uniform(0.0, 0.2, 5)
+        load = rng.normal(10.0, 30.0, (5, geo.discs, geo.zp))  # N/mm, a correction may be negative
+        flank, pin, local, seat = profile_wear(samples_to_grid(load, chi, geo), geo)
+        ref = growth_at_pins(flank, pin, local + seat, chi, geo)
+        out = np.ones_like(load)
+        pins_growth_um(load, chi, profile_tables(geo), 3.0, out)
+        assert np.allclose(out, 1.0 + 3.0 * ref, rtol=1e-11, atol=1e-12 * np.abs(ref).max())
+        assert np.abs(ref).max() > 1e-6

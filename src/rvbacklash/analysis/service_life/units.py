@@ -14,7 +14,8 @@ is followed step by step with a first-order correction of the nominal wear by it
 3. that excess profile is worn into the flanks, the pins and their seats by the nominal unit's own
    formulas (``profile_wear``: Archard's law with each place's sliding, the same as
    ``rates.wear_per_revolution``), over the step's equivalent hours, and read at the unit's pins
-   (flank at each pin's phase, seat at its normal's direction).
+   (flank at each pin's phase, seat at its normal's direction; ``growth_at_pins``). Compiled:
+   ``models.wear_kernel.pins_growth_um`` with ``profile_tables``, the same arithmetic.
 
 The unit's wear is then the nominal wear plus this correction: a unit without deviations has none
 (its forces are the nominal's, bit for bit), and the whole is linear in the wear coefficients. What
@@ -35,8 +36,9 @@ from rvbacklash.analysis.service_life.rates import DIRECTION_BINS, PHASE_BINS, W
 from rvbacklash.analysis.service_life.stepping import Trajectory
 from rvbacklash.analysis.service_life.worn import worn_gaps_um
 from rvbacklash.models import wear as wr
-from rvbacklash.models.elastic import nominal_realization, other_stages_nominal, unit_from_realization
+from rvbacklash.models.elastic import ElasticUnit, nominal_realization, other_stages_nominal, unit_from_realization
 from rvbacklash.models.elastic.unit_loads import pin_forces_n
+from rvbacklash.models.wear_kernel import ProfileTables, pins_growth_um
 from rvbacklash.problem import Problem
 
 TWO_PI = 2.0 * math.pi
@@ -65,6 +67,20 @@ def profile_wear(q_n_per_mm: np.ndarray, geo: WearGeometry) -> tuple[np.ndarray,
         pin = np.zeros(q_n_per_mm.shape[:-1])
         local = (v_pin @ binning) / widths * 1e3
     return flank, pin, local, seat
+
+
+def profile_tables(geo: WearGeometry) -> ProfileTables:
+    """The ProfileTables of a WearGeometry: ``profile_wear``'s weights per unit load at each place."""
+    rho = geo.inputs.pin_rolling_fraction
+    dphi = TWO_PI / PHASE_BINS
+    slide = geo.zc * geo.sliding_per_phase_mm * dphi
+    flank = geo.zp * geo.k_flank * (1.0 - rho) * geo.sliding_per_phase_mm / geo.flank_arc_per_phase_mm
+    pin = geo.k_flank * (1.0 - rho) * slide / (TWO_PI * geo.pin_radius_mm) if rho > 0.0 else np.zeros(PHASE_BINS)
+    seat = (geo.k_seat * rho + (geo.k_flank * (1.0 - rho) if rho == 0.0 else 0.0)) * slide
+    return ProfileTables(np.ascontiguousarray(geo.phase_rad), np.ascontiguousarray(flank), np.ascontiguousarray(pin),
+                         np.ascontiguousarray(seat), np.ascontiguousarray(geo.direction_bin, dtype=np.int64),
+                         geo.pin_radius_mm * np.diff(geo.direction_edges_rad),
+                         np.ascontiguousarray(geo.direction_centres_rad), float(geo.k1))
 
 
 def _phases(chi_rad: np.ndarray, geo: WearGeometry) -> np.ndarray:
@@ -129,50 +145,56 @@ class NominalAtAngles:
         self.inv, self.clr = other_stages_nominal(problem)
         self._units: dict[float, tuple[np.ndarray, np.ndarray]] = {}
 
-    def batch(self, chunk, chi_rad: np.ndarray):
-        """``chunk`` (an ElasticUnit batch) with the nominal unit's gaps and levers at each chi."""
-        gaps = np.empty_like(chunk.gap_um)
-        levers = np.empty_like(chunk.lever_um_per_rad)
-        uniq, inv = np.unique(chi_rad, return_inverse=True)
-        for i, chi in enumerate(uniq):
+    def batch(self, chi_rad: np.ndarray):
+        """An ElasticUnit batch of the nominal unit at each crank angle chi_rad (n,) [rad]."""
+        for chi in chi_rad:
             key = float(chi)
             if key not in self._units:
                 u = unit_from_realization(self.problem, nominal_realization(self.problem, key), self.inv, self.clr)
                 self._units[key] = (u.gap_um, u.lever_um_per_rad)
-            rows = inv == i
-            gaps[rows] = self._units[key][0]
-            levers[rows] = self._units[key][1]
-        return chunk._replace(gap_um=gaps, lever_um_per_rad=levers)
+        n = np.size(chi_rad)
+        return ElasticUnit(np.array([self._units[float(c)][0] for c in chi_rad]),
+                           np.array([self._units[float(c)][1] for c in chi_rad]), np.asarray(chi_rad, float),
+                           np.full(n, self.inv), np.full(n, self.clr))
 
 
-def own_wear_correction(worn, nominal_worn, design, trajectory: Trajectory, k: int) -> np.ndarray:
+def own_wear_correction(worn, nominal_forces_n: np.ndarray, design, trajectory: Trajectory, k: int) -> np.ndarray:
     """(n, discs, z_p): the gap growth [um] over step k of the units ``worn`` (their gaps at the
-    step's start) beyond the nominal unit's wear (module docstring); ``nominal_worn``: the nominal
-    unit at the same crank angles with the nominal wear; ``design``: the step's LoopDesign."""
+    step's start) beyond the nominal unit's wear (module docstring); ``nominal_forces_n`` (n, T, discs,
+    z_p): the nominal unit's pins' forces at the same crank angles with the nominal wear, at the
+    cycle's torques (``Trajectory.torque_revolutions``); ``design``: the step's LoopDesign."""
     geo = trajectory.geometry
     torques = np.array([t for t, _ in trajectory.torque_revolutions])
     revs = np.array([r for _, r in trajectory.torque_revolutions])
-    excess = pin_forces_n(worn, design, torques) - pin_forces_n(nominal_worn, design, torques)  # (n, T, discs, zp)
-    per_hour = np.tensordot(revs, excess, axes=(0, 1)) if torques.size else np.zeros_like(worn.gap_um)
-    q = samples_to_grid(per_hour / geo.contact_length_mm, worn.chi_rad, geo)
-    flank, pin, local, seat = profile_wear(q, geo)
-    return trajectory.step_equivalent_h[k] * growth_at_pins(flank, pin, local + seat, worn.chi_rad, geo)
+    if torques.size == 0:
+        return np.zeros_like(worn.gap_um)
+    excess = pin_forces_n(worn, design, torques) - nominal_forces_n  # (n, T, discs, zp)
+    per_hour = np.ascontiguousarray(np.tensordot(revs, excess, axes=(0, 1)) / geo.contact_length_mm)
+    out = np.zeros_like(worn.gap_um)
+    pins_growth_um(per_hour, np.ascontiguousarray(worn.chi_rad, float), profile_tables(geo),
+                   float(trajectory.step_equivalent_h[k]), out)
+    return out
 
 
 def worn_units(chunk, trajectory: Trajectory, designs, nominal: NominalAtAngles | None = None):
     """Each time k of the trajectory: (k, the units of ``chunk`` (an ElasticUnit batch) with their wear
     to that time): the nominal unit's wear and, with ``nominal`` (the nominal unit's pins at the units'
     angles), each unit's own correction step by step (module docstring); without it, the nominal
-    unit's wear as it is."""
+    unit's wear as it is. The nominal unit's forces are solved once per distinct crank angle (a
+    production run draws its units' angles from CRANK_STEPS per pin pitch)."""
     geo = trajectory.geometry
     extra = np.zeros_like(chunk.gap_um)
-    base = nominal.batch(chunk, chunk.chi_rad) if nominal is not None else None
+    if nominal is not None:
+        angles, index = np.unique(chunk.chi_rad, return_inverse=True)
+        base = nominal.batch(angles)
+        torques = np.array([t for t, _ in trajectory.torque_revolutions])
     for k, wear in enumerate(trajectory.wear):
         nominal_growth = worn_gaps_um(wear, geo, chunk.chi_rad)
         clearance = chunk.crank_clearance_um + wear.clearance_um
         worn = chunk._replace(gap_um=np.ascontiguousarray(chunk.gap_um + nominal_growth + extra),
                               crank_clearance_um=clearance)
         yield k, worn
-        if base is not None and k < len(trajectory.step_equivalent_h):
-            ref = base._replace(gap_um=np.ascontiguousarray(base.gap_um + nominal_growth), crank_clearance_um=clearance)
-            extra = extra + own_wear_correction(worn, ref, designs[k], trajectory, k)
+        if nominal is not None and k < len(trajectory.step_equivalent_h):
+            ref = base._replace(gap_um=np.ascontiguousarray(base.gap_um + worn_gaps_um(wear, geo, angles)))
+            forces = pin_forces_n(ref, designs[k], torques)[index]
+            extra = extra + own_wear_correction(worn, forces, designs[k], trajectory, k)
