@@ -143,3 +143,31 @@ def test_the_compiled_pin_growth_is_the_profile_wear_read_at_the_pins(rv80e):
         pins_growth_um(load, chi, profile_tables(geo), 3.0, out)
         assert np.allclose(out, 1.0 + 3.0 * ref, rtol=1e-11, atol=1e-12 * np.abs(ref).max())
         assert np.abs(ref).max() > 1e-6
+
+
+def test_the_te_over_the_life_starts_at_the_te_models_ripple_and_moves_with_the_worn_profile(rv80e):
+    """At 0 h the worn-unit flank curve's peak-to-peak is the transmission-error model's own ripple of
+    the error-free unit (0.0701 arcsec for rv80e; 0.0707 here: linearised, within 2 %); a uniform wear
+    of 2 um gives the ripple the TE model gives the design with 2 um more equidistance modification (the
+    modifications make the ripple); the worn profile after 6000 h changes it."""
+    from rvbacklash.analysis.service_life.ripple import worn_ripple
+
+    problem, model, cycle = rv80e
+    geo = wear_geometry(problem, model)
+    te0 = api.transmission_error(problem, shares=False).nominal_ripple_arcsec
+    zero = worn_ripple(problem, 0.0, WearIncrement.zero(2), geo)
+    assert zero.te_peak_to_peak_ccw_arcsec == pytest.approx(te0, rel=2e-2)  # linearised, 64 angles a pitch
+    assert zero.te_peak_to_peak_cw_arcsec == pytest.approx(te0, rel=2e-2)
+    uniform = WearIncrement.zero(2).plus(WearIncrement(np.full((2, geo.phase_rad.size), 2.0), np.zeros(2),
+                                                       np.zeros((2, 90)), np.zeros((2, 90)), 0.0, 0.0, np.zeros(3)))
+    flat = worn_ripple(problem, 0.0, uniform, geo)
+    d = problem.design
+    s2 = d.second_stage.model_copy(update={"equidistance_modification_um": d.second_stage.equidistance_modification_um
+                                           + 2.0})
+    te2 = api.transmission_error(d.model_copy(update={"second_stage": s2}), shares=False).nominal_ripple_arcsec
+    assert abs(te2 - te0) > 0.01  # the modification moves the ripple ...
+    assert flat.te_peak_to_peak_ccw_arcsec == pytest.approx(te2, rel=2e-2)  # ... and the uniform wear as much
+    assert flat.rigid_play_mean_arcmin > zero.rigid_play_mean_arcmin + 0.1
+    tr = nominal_trajectory(problem, cycle, [0, 6000], model=model)
+    worn = worn_ripple(problem, 6000.0, tr.wear[-1], geo)
+    assert abs(worn.te_peak_to_peak_ccw_arcsec - zero.te_peak_to_peak_ccw_arcsec) > 0.01

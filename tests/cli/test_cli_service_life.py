@@ -18,7 +18,8 @@ def test_service_life_table_json_csv_plot(tmp_path):
                 "--spec-lost-motion-arcmin", "1.5", "--json", out, "--csv", csv_out, "--plot", svg)
     assert p.returncode == 0, p.stderr
     for text in ("Nominal unit", "lost motion [arcmin]", "cycloid flanks", "pin seats", "crank needle bearings",
-                 "Production run: 200 units", "accuracy life", "6,000"):
+                 "Production run: 200 units", "accuracy life", "6,000", "transmission error",
+                 "its own wear"):
         assert text in p.stdout, text
     data = json.loads(out.read_text())
     assert [pt["hours"] for pt in data["points"]] == [0.0, 1000.0, 6000.0]
@@ -26,12 +27,15 @@ def test_service_life_table_json_csv_plot(tmp_path):
     assert lm[0] < lm[1] < lm[2]  # the lost motion grows with wear
     prod = data["production"]
     assert prod["units"] == 200 and prod["yield_at_hours"][0]["fraction"] >= prod["yield_at_hours"][2]["fraction"]
+    assert prod["unit_wear"] == "own"
+    assert [t["hours"] for t in data["transmission_error"]] == [0.0, 1000.0, 6000.0]
     s = run_cli("schema", "--output", "service-life")
     assert s.returncode == 0, s.stderr
     schema = json.loads(s.stdout)
     jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
     rows = csv_out.read_text().splitlines()
     assert rows[0].startswith("hours,lost_motion_arcmin") and "yield" in rows[0] and len(rows) == 4
+    assert "te_peak_to_peak_ccw_arcsec" in rows[0]
     assert "<svg" in svg.read_text()[:2000]
 
 
@@ -134,7 +138,7 @@ def test_calibrate_reads_a_units_loops_over_its_service_and_recovers_k(tmp_path)
                                                                      * data["scale"])
     # one line, nothing written: hours that do not match the loops, or --hours without --duty-cycle
     one_line_error(run_cli("calibrate", "rv80e", "--duty-cycle", "robot-joint", "--hours", "0", "--bench", files[0],
-                           "--bench", files[1], "--write-design", tmp_path / "x.toml"), "error: hours")
+                           "--bench", files[1], "--write-design", tmp_path / "x.toml"), "error: --hours")
     one_line_error(run_cli("calibrate", "rv80e", "--hours", "0,1000", "--bench", files[0], "--bench", files[1]),
                    "error: --duty-cycle")
     assert not (tmp_path / "x.toml").exists()

@@ -44,6 +44,16 @@ def print_service_life(r, console) -> None:
                   f"{p.rigidity_nm_per_arcmin:.0f}", f"{p.max_flank_wear_um:.2f}", f"{p.max_pin_and_seat_wear_um:.2f}",
                   f"{p.crank_clearance_growth_um:.2f}", f"{p.max_pin_stress_mpa:.0f}")
     console.print(t)
+    if r.transmission_error:
+        e = Table(title="Nominal unit's transmission error (rigid, unloaded flank curve of the worn unit)",
+                  title_justify="left")
+        for col in ("hours", "TE peak-to-peak ccw [arcsec]", "TE peak-to-peak cw [arcsec]",
+                    "rigid play of the cycloid stage [arcmin]"):
+            e.add_column(escape(col), justify="right")
+        for x in r.transmission_error:
+            e.add_row(f"{x.hours:,.0f}", f"{x.te_peak_to_peak_ccw_arcsec:.4f}", f"{x.te_peak_to_peak_cw_arcsec:.4f}",
+                      f"{x.rigid_play_mean_arcmin:.3f}")
+        console.print(e)
     w = Table(title="Wear rates at 0 h (steady coefficient; running-in multiplies them at first)", title_justify="left")
     for col in ("contact", "deepest [um/1000 h]", "mean [um/1000 h]", "k [mm3/(N m)]", "sliding"):
         w.add_column(escape(col), justify="left" if col in ("contact", "sliding") else "right")
@@ -137,6 +147,12 @@ def _rows(r) -> list[dict]:
     """One row per asked hour: the nominal unit's figures and, with a production run, its yield and
     lost-motion quantiles."""
     rows = [p.to_dict() for p in r.points]
+    te = {x.hours: x for x in r.transmission_error}
+    for row in rows:
+        x = te.get(row["hours"])
+        if x is not None:
+            row.update(te_peak_to_peak_ccw_arcsec=x.te_peak_to_peak_ccw_arcsec,
+                       te_peak_to_peak_cw_arcsec=x.te_peak_to_peak_cw_arcsec)
     if r.production is not None:
         for row, extra in zip(rows, r.production.rows()):
             row.update({k: v for k, v in extra.items() if k != "hours"})

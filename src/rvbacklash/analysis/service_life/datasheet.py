@@ -11,6 +11,7 @@ import numpy as np
 from rvbacklash.analysis.service_life.production import production_life
 from rvbacklash.analysis.service_life.rates import WearIncrement
 from rvbacklash.analysis.service_life.results import ContactWearRate, FlankProfile, ServiceLifeResult
+from rvbacklash.analysis.service_life.ripple import worn_ripple
 from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION, check_hours, \
     nominal_trajectory
 from rvbacklash.design.duty_cycle import DutyCycle
@@ -77,6 +78,7 @@ def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0,
     w = geo.inputs
     inputs = {**w.model_dump(), "k_flank_mm3_per_nm": geo.k_flank, "k_seat_mm3_per_nm": geo.k_seat,
               "k_needle_mm3_per_nm": geo.k_needle, "reference_clearance_um": tr.reference_clearance_um}
+    te = tuple(worn_ripple(problem, h, w, geo) for h, w in zip(tr.hours, tr.wear) if h in targets)
     return ServiceLifeResult(problem.design.name, cycle.source, cycle.mean_speed_rpm, angles, step_fraction,
                              len(tr.hours) - 1, inputs, points, tr.points, _rates(tr.initial_rate, geo), profile,
-                             production, tr.partial or (production is not None and production.partial))
+                             production, tr.partial or (production is not None and production.partial), te)
