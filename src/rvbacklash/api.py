@@ -506,6 +506,32 @@ def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: 
     return dataclasses.replace(result, sources=sources) if sources else result
 
 
+def accuracy_life_sensitivity(design: DesignLike, *, duty_cycle: str | Path, hours: float = 6000.0,
+                              spec_lost_motion_arcmin: float = 1.5, samples: int = 256, seed: int = 0,
+                              resamples: int = 1000, progress: Callable[[int], None] | None = None) -> SensitivityResult:
+    """Which tolerance buys hours: first-order and total Sobol indices of the accuracy life (hours of
+    ``duty_cycle`` until the lost motion exceeds ``spec_lost_motion_arcmin``, censored at ``hours``) of
+    the elastic model's units, each with its own wear, for every random factor group, with 95 % bootstrap
+    intervals (docs/service-life.md). ``samples`` N a power of two (N (D + 2) units are worn)."""
+    from rvbacklash.analysis.sensitivity_global import global_sensitivity
+    from rvbacklash.analysis.service_life.sensitivity import accuracy_life_streams
+    from rvbacklash.analysis.service_life.stepping import check_hours, nominal_trajectory
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+    from rvbacklash.models.elastic import elastic_model
+
+    problem = prepare(design)
+    last = check_hours([hours])[-1]
+    if last <= 0.0:
+        raise InputError("hours", hours, "allowed: a number of hours > 0")
+    if not (math.isfinite(spec_lost_motion_arcmin) and spec_lost_motion_arcmin > 0.0):
+        raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0 [arcmin]")
+    model = elastic_model(problem)
+    tr = nominal_trajectory(problem, read_duty_cycle(example_duty_cycle(duty_cycle)), [0.0, last], model=model)
+    return global_sensitivity(problem, model=accuracy_life_streams(problem, tr, spec_lost_motion_arcmin, model),
+                              output="accuracy_life", samples=samples, seed=seed, resamples=resamples,
+                              progress=progress)
+
+
 def example_duty_cycle(path: str | Path) -> Path:
     """A duty-cycle file: ``path`` when it exists, else the packaged example of that name
     (``robot-joint``: examples/duty_cycles/robot-joint.csv)."""
