@@ -6,7 +6,8 @@
    prepared at 12 crank angles, its loads solved at each of the cycle's torques): wall and CPU time,
    steps;
 2. the production run: ``--units`` units read along that trajectory (each unit at every step's
-   time), wall and CPU time, units per second;
+   time), with the nominal unit's wear and with each unit's own (its pins re-solved at every step:
+   analysis/service_life/units.py), side by side in one run: wall and CPU time, units per second;
 3. end to end, ``api.service_life`` (both, plus the result): wall and CPU time.
 The issue's target: 10 000 units to 6000 h in at most 2 minutes on this machine. The kernels are
 compiled (or loaded from numba's cache) before any timing. CPU time (user + sys of this process)
@@ -44,18 +45,22 @@ def main() -> None:
     cycle = read_duty_cycle(api.example_duty_cycle("robot-joint"))
     warm = nominal_trajectory(problem, cycle, [0, 10], model=model)  # compile / load the kernels
     production_life(problem, warm, [0, 10], samples=16, seed=0, spec_lost_motion_arcmin=1.5, model=model)
+    production_life(problem, warm, [0, 10], samples=16, seed=0, spec_lost_motion_arcmin=1.5, model=model,
+                    own_wear=False)
     hours = [0.0, a.hours / 6, a.hours]
     tr, w1, c1 = _timed(lambda: nominal_trajectory(problem, cycle, hours, model=model))
     print(f"nominal stepping to {a.hours:g} h: {len(tr.hours) - 1} steps, wall {w1:.2f} s, cpu {c1:.2f} s "
           f"({w1 / max(len(tr.hours), 1):.3f} s per step)")
-    prod, w2, c2 = _timed(lambda: production_life(problem, tr, hours, samples=a.units, seed=1,
-                                                  spec_lost_motion_arcmin=1.5, model=model))
-    print(f"production run: {a.units} units x {len(tr.hours)} times, wall {w2:.2f} s, cpu {c2:.2f} s "
-          f"({a.units / w2:,.0f} units/s)")
-    y = ", ".join(f"{h:g} h {p.fraction:.1%}" for h, p in zip(prod.hours, prod.yield_at_hours))
-    print(f"yield (lost motion <= 1.5 arcmin): {y}")
+    for own in (False, True):
+        prod, w2, c2 = _timed(lambda: production_life(problem, tr, hours, samples=a.units, seed=1,
+                                                      spec_lost_motion_arcmin=1.5, model=model, own_wear=own))
+        print(f"production run, {'own' if own else 'nominal'} wear: {a.units} units x {len(tr.hours)} times, "
+              f"wall {w2:.2f} s, cpu {c2:.2f} s ({a.units / w2:,.0f} units/s)")
+        y = ", ".join(f"{h:g} h {p.fraction:.1%}" for h, p in zip(prod.hours, prod.yield_at_hours))
+        print(f"  yield (lost motion <= 1.5 arcmin): {y}; accuracy life quantiles "
+              f"{ {k: round(v) if v < float('inf') else v for k, v in prod.accuracy_life_quantiles_h.items()} }")
     r, w3, c3 = _timed(lambda: api.service_life(problem, duty_cycle="robot-joint", hours=hours, samples=a.units,
-                                                seed=1))
+                                                seed=1))  # each unit's own wear
     print(f"end to end api.service_life, {a.units} units to {a.hours:g} h: wall {w3:.2f} s, cpu {c3:.2f} s "
           f"(target: at most 120 s wall at 10 000 units and 6000 h)")
     print(f"nominal lost motion {r.points[0].lost_motion_arcmin:.3f} -> {r.points[-1].lost_motion_arcmin:.3f} arcmin")

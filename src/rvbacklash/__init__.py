@@ -45,6 +45,7 @@ _EXPORTS = {
     "generate_batch": "rvbacklash.api",
     "service_life": "rvbacklash.api",
     "calibrate_wear": "rvbacklash.api",
+    "accuracy_life_sensitivity": "rvbacklash.api",
     "capacity_trade": "rvbacklash.api",
     "WhatIf": "rvbacklash.analysis.capacity",
     "clearance_what_if": "rvbacklash.analysis.capacity",

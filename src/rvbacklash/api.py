@@ -9,6 +9,7 @@ result (``to_dict()``, ``to_frame()``). All arguments after the design are keywo
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Iterable, Mapping, Union
@@ -491,7 +492,7 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     return dataclasses.replace(result, production=run)
 def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[float] = (0.0, 1000.0, 6000.0),
                  spec_lost_motion_arcmin: float = 1.5, samples: int = 2000, seed: int = 0, angles: int | None = None,
-                 step_fraction: float | None = None,
+                 step_fraction: float | None = None, unit_wear: str = "own",
                  progress: Callable[[str, float], None] | None = None) -> "ServiceLifeResult":
     """Precision over the service life (docs/service-life.md): the nominal unit's lost motion, backlash
     and rigidity after ``hours`` of the duty cycle ``duty_cycle`` (a CSV or TOML file, or the name of an
@@ -499,8 +500,9 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
     the production run (seeded by ``seed``; 0: none): their yield against ``spec_lost_motion_arcmin``
     versus hours and their accuracy life. ``angles``: crank angles per revolution of each step's loads
     (default 12); ``step_fraction``: the largest wear depth per time step as a share of the reference
-    clearance (default 0.1). The design needs [elastic]; its [wear] table (optional) sets the wear
-    coefficients and running-in (design/wear.py)."""
+    clearance (default 0.1); ``unit_wear``: "own" (each unit's wear from its discs' own load shares,
+    re-solved every step) or "nominal" (every unit wears as the nominal unit). The design needs
+    [elastic]; its [wear] table (optional) sets the wear coefficients and running-in (design/wear.py)."""
     from rvbacklash.analysis.service_life.datasheet import service_life as _service_life
     from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION
     from rvbacklash.design.duty_cycle import read_duty_cycle
@@ -510,20 +512,63 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
                          spec_lost_motion_arcmin=spec_lost_motion_arcmin,
                          angles=DEFAULT_ANGLES if angles is None else angles,
                          step_fraction=DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
-                         progress=progress)
+                         unit_wear=unit_wear, progress=progress)
 
 
-def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]],
-                   sigma_arcmin: float = 0.01) -> "WearCalibration":
+def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]] = (),
+                   sigma_arcmin: float | None = None, bench=None, hours: Iterable[float] | None = None,
+                   torque_unit: str | None = None, angle_unit: str | None = None, time_unit: str | None = None,
+                   columns: str | dict | None = None, format_profile: str | Path | None = None,
+                   decimal: str | None = None) -> "WearCalibration":
     """The wear coefficients' common scale (k = s k_design) fitted, with a 95 % interval, to one unit's lost
-    motion measured at 0 h and after some hours of ``duty_cycle`` (``measurements``: (hours, lost motion
-    [arcmin]) pairs, e.g. the ``bench`` command's readings of its loops; ``sigma_arcmin``: one reading's
-    repeatability). docs/service-life.md, "Calibration"."""
+    motion measured at 0 h and after some hours of ``duty_cycle``: ``measurements`` (hours, lost motion
+    [arcmin]) pairs, or ``bench`` the unit's measured loops (files read as ``read_bench`` reads them,
+    with the rig-format arguments) at ``hours`` (one per file, the first 0). ``sigma_arcmin``: one
+    reading's repeatability (default: from the loops, the largest standard uncertainty u = U / 2 of
+    their lost motions; 0.01 arcmin for ``measurements``). ``result.design`` is the calibrated design.
+    docs/service-life.md, "Calibration"."""
     from rvbacklash.analysis.service_life.calibration import calibrate_wear as _calibrate
     from rvbacklash.design.duty_cycle import read_duty_cycle
 
-    return _calibrate(prepare(design), read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
-                      sigma_arcmin=sigma_arcmin)
+    problem = prepare(design)
+    sources: tuple[str, ...] = ()
+    if bench is not None:
+        from rvbacklash.analysis.service_life.calibration import bench_measurements
+
+        files = [bench] if isinstance(bench, (str, Path)) else list(bench)
+        read = read_bench(files, torque_unit=torque_unit, angle_unit=angle_unit, time_unit=time_unit,
+                          columns=columns, format_profile=format_profile, decimal=decimal)
+        measurements, sigma_read, sources = bench_measurements(read, None if hours is None else list(hours))
+        sigma_arcmin = sigma_read if sigma_arcmin is None else sigma_arcmin
+    result = _calibrate(problem, read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
+                        sigma_arcmin=0.01 if sigma_arcmin is None else sigma_arcmin)
+    return dataclasses.replace(result, sources=sources) if sources else result
+
+
+def accuracy_life_sensitivity(design: DesignLike, *, duty_cycle: str | Path, hours: float = 6000.0,
+                              spec_lost_motion_arcmin: float = 1.5, samples: int = 256, seed: int = 0,
+                              resamples: int = 1000, progress: Callable[[int], None] | None = None) -> SensitivityResult:
+    """Which tolerance buys hours: first-order and total Sobol indices of the accuracy life (hours of
+    ``duty_cycle`` until the lost motion exceeds ``spec_lost_motion_arcmin``, censored at ``hours``) of
+    the elastic model's units, each with its own wear, for every random factor group, with 95 % bootstrap
+    intervals (docs/service-life.md). ``samples`` N a power of two (N (D + 2) units are worn)."""
+    from rvbacklash.analysis.sensitivity_global import global_sensitivity
+    from rvbacklash.analysis.service_life.sensitivity import accuracy_life_streams
+    from rvbacklash.analysis.service_life.stepping import check_hours, nominal_trajectory
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+    from rvbacklash.models.elastic import elastic_model
+
+    problem = prepare(design)
+    last = check_hours([hours])[-1]
+    if last <= 0.0:
+        raise InputError("hours", hours, "allowed: a number of hours > 0")
+    if not (math.isfinite(spec_lost_motion_arcmin) and spec_lost_motion_arcmin > 0.0):
+        raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0 [arcmin]")
+    model = elastic_model(problem)
+    tr = nominal_trajectory(problem, read_duty_cycle(example_duty_cycle(duty_cycle)), [0.0, last], model=model)
+    return global_sensitivity(problem, model=accuracy_life_streams(problem, tr, spec_lost_motion_arcmin, model),
+                              output="accuracy_life", samples=samples, seed=seed, resamples=resamples,
+                              progress=progress)
 
 
 def example_duty_cycle(path: str | Path) -> Path:

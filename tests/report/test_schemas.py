@@ -133,6 +133,14 @@ def test_a_real_output_validates_against_its_schema(outputs, name):
     jsonschema.validate(data, schema, cls=jsonschema.Draft202012Validator)
 
 
+def test_a_wear_calibration_validates_against_the_calibrate_schema(rv80e):
+    """`calibrate --duty-cycle` writes a WearCalibration (issue 38): the calibrate schema takes it."""
+    r = rb.calibrate_wear(rv80e, duty_cycle="robot-joint", measurements=[(0, 1.94), (200, 2.10)])
+    data = json.loads(render_json(r.to_dict()))
+    assert "design" not in data and data["sources"] == []
+    jsonschema.validate(data, output_schema("calibrate"), cls=jsonschema.Draft202012Validator)
+
+
 def test_the_schema_catches_a_moved_field(outputs):
     """A test that cannot fail is a defect: the old simulate layout (figures at the top level) is refused."""
     data = json.loads(render_json(outputs["simulate"].to_dict()))

@@ -21,19 +21,24 @@ ANGLE_PER_ARCMIN = {"arcmin": 1.0, "arcsec": 60.0, "deg": 1.0 / 60.0, "rad": 1.0
 def model_loop_samples(problem: Problem, *, cycles: int = 2, samples_per_branch: int = 150, noise_arcmin: float = 0.0,
                        offset_arcmin: float = 0.0, drift_arcmin_per_s: float = 0.0, start_fraction: float = 0.0,
                        uneven: bool = False, seed: int = 0, crank_clearance_um: float | None = None,
-                       torque_noise_nm: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                       torque_noise_nm: float = 0.0,
+                       prepared: PreparedUnit | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(time [s], torque [N m], angle [arcmin]) of the nominal unit's loop run ``cycles`` times
     (0 -> +T_R -> 0 -> -T_R -> 0, one second per branch), with Gaussian angle noise, an angle offset,
     a linear drift in time, a start ``start_fraction`` of a cycle late, uneven sampling (random
     time steps) and a crank-bearing clearance other than the nominal one. The angle is the model's
-    own (analysis.hysteresis centring), so the figures read back are the model's."""
+    own (analysis.hysteresis centring), so the figures read back are the model's. ``prepared``: another
+    unit than the nominal one (e.g. a worn unit, docs/service-life.md)."""
     if problem.design.elastic is None:
         raise InputError("elastic", allowed="the design has no [elastic] table")
     rng = np.random.default_rng(seed)
-    unit = nominal_unit(problem)
-    if crank_clearance_um is not None:
-        unit = unit._replace(crank_clearance_um=float(crank_clearance_um))
-    pu = PreparedUnit(elastic_model(problem), unit)
+    if prepared is None:
+        unit = nominal_unit(problem)
+        if crank_clearance_um is not None:
+            unit = unit._replace(crank_clearance_um=float(crank_clearance_um))
+        pu = PreparedUnit(elastic_model(problem), unit)
+    else:
+        pu = prepared
     tr = problem.design.elastic.rated_torque_nm
     centre = 0.5 * (pu.branch(0.0, FALL).sum() + pu.branch(0.0, RISE).sum())
     n = 4 * cycles * samples_per_branch

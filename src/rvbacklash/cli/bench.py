@@ -246,6 +246,13 @@ def calibrate(
     bootstrap: int = typer.Option(50, "--bootstrap", help="Resamples over units for the intervals (3 units or more)."),
     samples: str = typer.Option("0", "--samples", "-n", help="Predicted units for the spread comparison (0: none)."),
     seed: int = SEED_OPTION,
+    duty_cycle: Optional[str] = typer.Option(None, "--duty-cycle", metavar="FILE",
+                                             help="Calibrate the wear coefficients instead (docs/service-life.md): "
+                                                  "the --bench loops are ONE unit measured after --hours of this duty "
+                                                  "cycle (a CSV/TOML file or an example's name: robot-joint)."),
+    hours: Optional[str] = typer.Option(None, "--hours", help="With --duty-cycle: the hours of the cycle at which "
+                                                              "each --bench loop was measured, comma-separated, in "
+                                                              "their order, the first 0 (e.g. 0,1000)."),
     json_out: Optional[str] = json_option("the fitted parameters"),
     csv_out: Optional[str] = csv_option("one row per parameter"),
     plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG of the measured loops with the nominal "
@@ -255,7 +262,8 @@ def calibrate(
     quiet: bool = QUIET_OPTION,
 ) -> None:
     """Fit the structure's stiffness, the friction torque and the crank bearings' clearance offset
-    to measured loops (least squares, 95 % intervals) and write the calibrated design."""
+    to measured loops (least squares, 95 % intervals) and write the calibrated design; with
+    --duty-cycle and --hours, the wear coefficients' scale from one unit's loops over its service."""
     import rvbacklash.api as api
     from rvbacklash.analysis.calibration import calibration_header
     from rvbacklash.report.bench_plots import calibration_svg
@@ -263,6 +271,11 @@ def calibrate(
     from rvbacklash.report.files import render_csv, render_json
 
     out = Outputs(fmt, force, quiet, write_design=write_design, json=json_out, csv=csv_out, plot=plot)
+    if duty_cycle is not None or hours is not None:
+        _calibrate_wear(design, bench_files, duty_cycle, hours, out, plot,
+                        dict(torque_unit=torque_unit, angle_unit=angle_unit, time_unit=time_unit, columns=columns,
+                             format_profile=format_profile, decimal=decimal))
+        return
     n = parse_samples(samples)
     result = api.calibrate(design, bench=bench_files, torque_unit=torque_unit, angle_unit=angle_unit,
                            time_unit=time_unit, bootstrap=bootstrap, seed=seed, samples=n, columns=columns,
@@ -272,3 +285,48 @@ def calibrate(
                 "--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
                 "--plot": lambda: calibration_svg(result)},
                lambda: print_calibration(result, stdout_console()), data, rows)
+
+
+def _calibrate_wear(design: str, bench_files, duty_cycle, hours, out, plot, fmt: dict) -> None:
+    """``calibrate --duty-cycle F --hours 0,T --bench L0 --bench LT``: the wear coefficients' scale."""
+    import rvbacklash.api as api
+    from rvbacklash.errors import InputError
+    from rvbacklash.report.design_toml import design_toml
+    from rvbacklash.report.files import render_csv, render_json
+
+    if duty_cycle is None or hours is None:
+        raise InputError("--duty-cycle" if duty_cycle is None else "--hours", None,
+                         "the wear calibration needs both --duty-cycle and --hours (one number of hours per --bench "
+                         "loop)")
+    if plot is not None:
+        raise InputError("--plot", plot, "allowed: none with --duty-cycle (the wear calibration has no plot)")
+    try:
+        wanted = [float(v) for v in hours.split(",") if v.strip()]
+    except ValueError:
+        raise InputError("hours", hours, "allowed: hours separated by commas, one per --bench loop, e.g. 0,1000") \
+            from None
+    result = api.calibrate_wear(design, duty_cycle=duty_cycle, bench=bench_files, hours=wanted, **fmt)
+    data = result.to_dict()
+    rows = [{"hours": h, "measured_growth_arcmin": m, "fitted_growth_arcmin": f}
+            for h, m, f in zip(result.measured_hours, result.measured_growth_arcmin, result.fitted_growth_arcmin)]
+    header = "\n".join([f"Wear coefficients calibrated with `rvbacklash calibrate --duty-cycle {duty_cycle}` from "
+                        f"{len(result.sources)} measured loop(s) at {hours} h:", *(f"  {s}" for s in result.sources),
+                        f"  every [wear] coefficient x {result.scale:.6g} (95 %: {result.scale_ci95_low:.6g} .. "
+                        f"{result.scale_ci95_high:.6g}; docs/service-life.md, 'Calibration')"])
+    out.finish({"--write-design": lambda: design_toml(result.design, header),
+                "--json": lambda: render_json(data), "--csv": lambda: render_csv(rows)},
+               lambda: _print_wear(result, stdout_console()), data, rows)
+
+
+def _print_wear(result, console) -> None:
+    from rich.table import Table
+
+    t = Table(title="Wear coefficients' scale fitted to the unit's lost motion over time", title_justify="left")
+    for col in ("hours", "measured growth [arcmin]", "fitted growth [arcmin]"):
+        t.add_column(col, justify="right")
+    for row in zip(result.measured_hours, result.measured_growth_arcmin, result.fitted_growth_arcmin):
+        t.add_row(f"{row[0]:,.0f}", f"{row[1]:.4f}", f"{row[2]:.4f}")
+    console.print(t)
+    for line in result.summary():
+        console.print(line)
+    console.print(f"reading repeatability sigma {result.sigma_arcmin:.4f} arcmin")

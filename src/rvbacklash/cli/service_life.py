@@ -44,6 +44,16 @@ def print_service_life(r, console) -> None:
                   f"{p.rigidity_nm_per_arcmin:.0f}", f"{p.max_flank_wear_um:.2f}", f"{p.max_pin_and_seat_wear_um:.2f}",
                   f"{p.crank_clearance_growth_um:.2f}", f"{p.max_pin_stress_mpa:.0f}")
     console.print(t)
+    if r.transmission_error:
+        e = Table(title="Nominal unit's transmission error (rigid, unloaded flank curve of the worn unit)",
+                  title_justify="left")
+        for col in ("hours", "TE peak-to-peak ccw [arcsec]", "TE peak-to-peak cw [arcsec]",
+                    "rigid play of the cycloid stage [arcmin]"):
+            e.add_column(escape(col), justify="right")
+        for x in r.transmission_error:
+            e.add_row(f"{x.hours:,.0f}", f"{x.te_peak_to_peak_ccw_arcsec:.4f}", f"{x.te_peak_to_peak_cw_arcsec:.4f}",
+                      f"{x.rigid_play_mean_arcmin:.3f}")
+        console.print(e)
     w = Table(title="Wear rates at 0 h (steady coefficient; running-in multiplies them at first)", title_justify="left")
     for col in ("contact", "deepest [um/1000 h]", "mean [um/1000 h]", "k [mm3/(N m)]", "sliding"):
         w.add_column(escape(col), justify="left" if col in ("contact", "sliding") else "right")
@@ -67,7 +77,9 @@ def print_service_life(r, console) -> None:
         console.print(f"accuracy life (hours until lost motion > {prod.spec_lost_motion_arcmin:g} arcmin), quantiles "
                       f"of the run: {life}; {prod.out_at_start:,} units out at 0 h, {prod.still_in_spec:,} still in "
                       f"at {last:,.0f} h")
-        console.print("[dim]each unit is read with the nominal unit's wear (docs/service-life.md)[/]")
+        how = ("its own wear: the nominal unit's scaled by its discs' own load shares, re-solved every step"
+               if prod.unit_wear == "own" else "the nominal unit's wear")
+        console.print(f"[dim]each unit is read with {how} (docs/service-life.md)[/]")
 
 
 @app.command("service-life")
@@ -89,6 +101,9 @@ def service_life(
                                                                "(default 12)."),
     step_fraction: Optional[float] = typer.Option(None, "--step-fraction", help="Largest wear depth per time step as "
                                                   "a share of the reference clearance (default 0.1)."),
+    unit_wear: str = typer.Option("own", "--unit-wear", help="The production run's units: 'own' (each unit's wear "
+                                  "from its discs' own load shares, re-solved every step) or 'nominal' (every unit "
+                                  "wears as the nominal unit)."),
     json_out: Optional[str] = json_option("the nominal unit's trajectory, wear rates, worn flank and the production "
                                           "run"),
     csv_out: Optional[str] = csv_option("one row per asked hour (nominal unit and production run)"),
@@ -119,7 +134,8 @@ def service_life(
 
         result = api.service_life(design, duty_cycle=duty_cycle, hours=wanted,
                                   spec_lost_motion_arcmin=spec_lost_motion_arcmin, samples=n, seed=seed,
-                                  angles=angles, step_fraction=step_fraction, progress=progress)
+                                  angles=angles, step_fraction=step_fraction, unit_wear=unit_wear,
+                                  progress=progress)
     data = result.to_dict()
     rows = _rows(result)
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
@@ -131,6 +147,12 @@ def _rows(r) -> list[dict]:
     """One row per asked hour: the nominal unit's figures and, with a production run, its yield and
     lost-motion quantiles."""
     rows = [p.to_dict() for p in r.points]
+    te = {x.hours: x for x in r.transmission_error}
+    for row in rows:
+        x = te.get(row["hours"])
+        if x is not None:
+            row.update(te_peak_to_peak_ccw_arcsec=x.te_peak_to_peak_ccw_arcsec,
+                       te_peak_to_peak_cw_arcsec=x.te_peak_to_peak_cw_arcsec)
     if r.production is not None:
         for row, extra in zip(rows, r.production.rows()):
             row.update({k: v for k, v in extra.items() if k != "hours"})

@@ -28,6 +28,7 @@ from rvbacklash.analysis.bench import BenchResult
 from rvbacklash.analysis.calibration import CalibrationResult
 from rvbacklash.analysis.capacity import CapacityResult
 from rvbacklash.analysis.losses import EfficiencyResult
+from rvbacklash.analysis.service_life.calibration import WearCalibration
 from rvbacklash.analysis.service_life.results import ServiceLifeResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
@@ -148,8 +149,9 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
     "bench": (_result(BenchResult),
               "rvbacklash bench --json: measured units (hysteresis loops, TE curves) read by the model's definitions, "
               "each unit's figures under the hysteresis / transmission-error field names"),
-    "calibrate": (_result(CalibrationResult),
-                  "rvbacklash calibrate --json: the design's unknowns fitted to measured loops, with 95 % intervals"),
+    "calibrate": (lambda g: {"anyOf": [g.dataclass_schema(CalibrationResult), g.dataclass_schema(WearCalibration)]},
+                  "rvbacklash calibrate --json: the design's unknowns fitted to measured loops, with 95 % intervals; "
+                  "with --duty-cycle, the wear coefficients' scale fitted to one unit's loops over time (issue 38)"),
     "capacity": (_result(CapacityResult),
                  "rvbacklash capacity --json: the nominal unit's capacity and life: each bearing's load, rating and "
                  "L10, the reducer's life, the derived rated torque, momentary maximum and acceleration torques, the "

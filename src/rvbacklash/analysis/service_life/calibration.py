@@ -16,17 +16,18 @@ production run's shortcut).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from rvbacklash.analysis.service_life.stepping import nominal_trajectory
 from rvbacklash.design.duty_cycle import DutyCycle
+from rvbacklash.design.schema import Design
 from rvbacklash.design.wear import WearInputs
 from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model
 from rvbacklash.problem import Problem
-from rvbacklash.results import Result
+from rvbacklash.results import EXPORT, Result
 
 SCALE_GRID = np.geomspace(1.0 / 16.0, 16.0, 9)  # s: the design's coefficients times 1/16 ... 16
 CHI2_95 = 3.841458820694124  # chi^2 with one degree of freedom, 95 %
@@ -46,6 +47,8 @@ class WearCalibration(Result):
     measured_growth_arcmin: tuple[float, ...]
     fitted_growth_arcmin: tuple[float, ...]
     sigma_arcmin: float
+    sources: tuple[str, ...] = ()  # the measured loops' files, one per reading (none: readings given as numbers)
+    design: Design | None = field(default=None, metadata={EXPORT: False})  # the design with the scaled coefficients
 
     def summary(self) -> list[str]:
         return [f"wear coefficients x {self.scale:.3g} [{self.scale_ci95_low:.3g}, {self.scale_ci95_high:.3g}] (95 %)",
@@ -104,4 +107,21 @@ def calibrate_wear(problem: Problem, cycle: DutyCycle, measurements, *, sigma_ar
     return WearCalibration(s, lo, hi, k_of(w.flank_wear_coefficient, w.hardness_hv),
                            k_of(w.seat_wear_coefficient, w.hardness_hv), k_of(w.needle_wear_coefficient, w.hardness_hv),
                            tuple(hours), tuple(float(v) for v in measured), tuple(float(v) for v in model[best]),
-                           float(sigma_arcmin))
+                           float(sigma_arcmin), design=problem.design.model_copy(update={"wear": w}))
+
+
+def bench_measurements(read, hours) -> tuple[list[tuple[float, float]], float, tuple[str, ...]]:
+    """(hours, lost motion [arcmin]) pairs of one unit's measured loops (``read``: a BenchResult, one loop
+    per file) at ``hours`` (one per loop), the readings' repeatability sigma [arcmin] (the largest
+    standard uncertainty U / 2 of their lost motions, at least 1e-4 arcmin) and the files."""
+    from rvbacklash.analysis.bench import BenchLoop
+
+    loops = [u for u in read.units if isinstance(u, BenchLoop)]
+    if len(loops) != len(read.units):
+        raise InputError("bench", [u.source for u in read.units if not isinstance(u, BenchLoop)],
+                         "allowed: hysteresis loops (the wear calibration reads their lost motion)")
+    if hours is None or len(hours) != len(loops):
+        raise InputError("hours", hours, f"allowed: one number of hours per measured loop ({len(loops)}), the first 0")
+    sigma = max(max(u.uncertainty_k2.get("lost_motion_arcmin", 0.0) / 2.0 for u in loops), 1e-4)
+    return ([(float(h), float(u.lost_motion_arcmin)) for h, u in zip(hours, loops)], float(sigma),
+            tuple(str(u.source) for u in loops))

@@ -11,12 +11,15 @@ import numpy as np
 from rvbacklash.analysis.service_life.production import production_life
 from rvbacklash.analysis.service_life.rates import WearIncrement
 from rvbacklash.analysis.service_life.results import ContactWearRate, FlankProfile, ServiceLifeResult
+from rvbacklash.analysis.service_life.ripple import worn_ripple
 from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION, check_hours, \
     nominal_trajectory
 from rvbacklash.design.duty_cycle import DutyCycle
 from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model
 from rvbacklash.problem import Problem
+
+UNIT_WEAR = ("own", "nominal")  # the production run's units: their own wear, or the nominal unit's
 
 SLIDING = {
     "cycloid flanks": "relative to the pins the disc turns about the pitch point P: |v| = |omega_disc| |P P_c|; "
@@ -47,16 +50,19 @@ def _rates(rate: WearIncrement, geo) -> tuple[ContactWearRate, ...]:
 
 def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0, seed: int = 0,
                  spec_lost_motion_arcmin: float = 1.5, angles: int = DEFAULT_ANGLES,
-                 step_fraction: float = DEFAULT_STEP_FRACTION,
+                 step_fraction: float = DEFAULT_STEP_FRACTION, unit_wear: str = "own",
                  progress: Callable[[str, float], None] | None = None) -> ServiceLifeResult:
     """The ServiceLifeResult of a design under a duty cycle at ``hours`` (module docstring);
-    ``samples`` units of the production run (0: none). ``progress(stage, share)``."""
+    ``samples`` units of the production run (0: none), each with its own wear (``unit_wear`` "own") or
+    the nominal unit's ("nominal"; production.py). ``progress(stage, share)``."""
     targets = check_hours(hours)
     if not (isinstance(spec_lost_motion_arcmin, (int, float)) and math.isfinite(spec_lost_motion_arcmin)
             and spec_lost_motion_arcmin > 0.0):
         raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0 [arcmin]")
     if not (isinstance(samples, int) and samples >= 0):
         raise InputError("samples", samples, "allowed: 0 (the nominal unit only) or a number of units >= 1")
+    if unit_wear not in UNIT_WEAR:
+        raise InputError("unit_wear", unit_wear, f"allowed: {', '.join(UNIT_WEAR)}")
     model = elastic_model(problem)
     tr = nominal_trajectory(problem, cycle, targets, angles=angles, step_fraction=step_fraction, model=model,
                             progress=(lambda s: progress("nominal", s)) if progress else None)
@@ -65,13 +71,14 @@ def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0,
     if samples and not tr.partial:
         production = production_life(problem, tr, [p.hours for p in points], samples=samples, seed=seed,
                                      spec_lost_motion_arcmin=spec_lost_motion_arcmin, model=model,
-                                     progress=(lambda n: progress("units", n / samples)) if progress else None)
+                                     own_wear=unit_wear == "own", progress=(lambda n: progress("units", n / samples)) if progress else None)
     geo = tr.geometry
     profile = FlankProfile(tr.hours[-1], tuple(float(v) for v in np.degrees(geo.phase_rad)),
                            tuple(tuple(float(v) for v in d) for d in tr.wear[-1].flank_um))
     w = geo.inputs
     inputs = {**w.model_dump(), "k_flank_mm3_per_nm": geo.k_flank, "k_seat_mm3_per_nm": geo.k_seat,
               "k_needle_mm3_per_nm": geo.k_needle, "reference_clearance_um": tr.reference_clearance_um}
+    te = tuple(worn_ripple(problem, h, w, geo) for h, w in zip(tr.hours, tr.wear) if h in targets)
     return ServiceLifeResult(problem.design.name, cycle.source, cycle.mean_speed_rpm, angles, step_fraction,
                              len(tr.hours) - 1, inputs, points, tr.points, _rates(tr.initial_rate, geo), profile,
-                             production, tr.partial or (production is not None and production.partial))
+                             production, tr.partial or (production is not None and production.partial), te)

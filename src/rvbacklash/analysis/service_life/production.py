@@ -1,12 +1,13 @@
 """The production run over the service life (docs/service-life.md): every unit of a seeded run of the
-elastic model, read at each time of the nominal unit's trajectory with the nominal unit's wear added
-to its own gaps (at its own pins' phases) and to its crank bearings' clearance, gives its lost motion
-over the hours, its accuracy life (the hours until its lost motion exceeds the spec, linear between
-the trajectory's times) and the run's yield against the spec at every time.
+elastic model, read at each time of the nominal unit's trajectory with its wear added to its own gaps
+(at its own pins' phases) and to its crank bearings' clearance, gives its lost motion over the hours,
+its accuracy life (the hours until its lost motion exceeds the spec, linear between the trajectory's
+times) and the run's yield against the spec at every time.
 
-The shortcut (as the capacity's production run, docs/capacity.md): each unit wears as the nominal
-unit does; a unit whose pins share the load unequally would wear its loaded pins faster, which this
-reading leaves out. A unit's own stepping is ``stepping.nominal_trajectory(..., realization=...)``.
+Each unit's own wear (``own_wear``, the default): the nominal unit's wear corrected, step by step, by
+the unit's own loads re-solved on its own worn gaps (``units``: what the correction reads and leaves
+out). ``own_wear=False``: every unit wears as the nominal unit does (the capacity production run's
+shortcut).
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ import numpy as np
 
 from rvbacklash.analysis.service_life.results import ProductionLife
 from rvbacklash.analysis.service_life.stepping import Trajectory
-from rvbacklash.analysis.service_life.worn import worn_gaps_um, worn_model
+from rvbacklash.analysis.service_life.units import NominalAtAngles, worn_units
+from rvbacklash.analysis.service_life.worn import worn_model
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.errors import InputError
 from rvbacklash.interrupt import mark_progress, stop_requested
@@ -49,22 +51,29 @@ def accuracy_life_h(hours: np.ndarray, lost_motion: np.ndarray, spec: float) -> 
     return out
 
 
+def step_designs(problem: Problem, trajectory: Trajectory, model: ElasticModel) -> list:
+    """Each time's LoopDesign: the worn flank's curvature in the pins' laws (``worn.worn_model``)."""
+    designs = []
+    for wear in trajectory.wear:
+        m = worn_model(problem, model, wear)
+        designs.append(loop_design(m, design_pin_laws(m)) if m is not model or not designs else designs[0])
+    return designs
+
+
 def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples: int, seed: int,
-                    spec_lost_motion_arcmin: float, model: ElasticModel | None = None,
+                    spec_lost_motion_arcmin: float, model: ElasticModel | None = None, own_wear: bool = True,
                     progress: Callable[[int], None] | None = None) -> ProductionLife:
     """The ProductionLife of ``samples`` units of the elastic model (seed ``seed``) along the
-    nominal trajectory (module docstring); ``hours``: the hours to report (times of the trajectory);
-    ``progress`` receives the units done (each unit counts once all its times are read)."""
+    nominal trajectory, each with its own wear (``own_wear``) or the nominal unit's (module
+    docstring); ``hours``: the hours to report (times of the trajectory); ``progress`` receives the
+    units done (each unit counts once all its times are read)."""
     if not (isinstance(samples, int) and 1 <= samples <= MAX_UNITS):
         raise InputError("samples", samples, f"allowed: an integer from 1 to {MAX_UNITS:,}")
     if not (math.isfinite(spec_lost_motion_arcmin) and spec_lost_motion_arcmin > 0.0):
         raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0")
     model = model or elastic_model(problem)
-    designs = []  # each time's loop design: the worn flank's curvature in the pins' laws
-    for wear in trajectory.wear:
-        m = worn_model(problem, model, wear)
-        designs.append(loop_design(m, design_pin_laws(m)) if m is not model or not designs else designs[0])
-    geo = trajectory.geometry
+    designs = step_designs(problem, trajectory, model)
+    nominal = NominalAtAngles(problem) if own_wear else None
     times = np.array(trajectory.hours)
     lm = np.empty((times.size, samples))
     done = 0
@@ -77,10 +86,7 @@ def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples:
                 break
             chunk = units.take(slice(start, start + CHUNK))
             out = np.empty((3, chunk.chi_rad.size))
-            for k, wear in enumerate(trajectory.wear):
-                worn = chunk._replace(gap_um=np.ascontiguousarray(chunk.gap_um + worn_gaps_um(wear, geo,
-                                                                                                chunk.chi_rad)),
-                                      crank_clearance_um=chunk.crank_clearance_um + wear.clearance_um)
+            for k, worn in worn_units(chunk, trajectory, designs, nominal):
                 evaluate_units(worn, designs[k], out)
                 lm[k, start:start + chunk.chi_rad.size] = out[0]
             done = start + chunk.chi_rad.size
@@ -98,7 +104,7 @@ def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples:
     yields = tuple(Proportion.sampled(int((lm[k] <= spec).sum()), done) for k in index)
     life_q = {f"{q:.0%}": float(np.quantile(life, q, method="inverted_cdf")) if done else math.nan
               for q in QUANTILES}
-    return ProductionLife(done, int(seed), spec, tuple(float(h) for h in hours), yields,
+    return ProductionLife(done, int(seed), "own" if own_wear else "nominal", spec, tuple(float(h) for h in hours), yields,
                           tuple(grid_q[k] for k in index), life_q, int((lm[0] > spec).sum()) if done else 0,
                           int((lm[-1] <= spec).sum()) if done else 0, tuple(float(t) for t in times), grid_yield,
                           grid_q, partial)

@@ -25,6 +25,17 @@ class LifePoint(Result):
 
 
 @dataclass(frozen=True, repr=False)
+class LifeRipple(Result):
+    """The nominal unit's transmission error after some hours: its rigid, unloaded flank curve's
+    peak-to-peak over the output revolution on each flank (analysis/service_life/ripple.py)."""
+
+    hours: float
+    te_peak_to_peak_ccw_arcsec: float
+    te_peak_to_peak_cw_arcsec: float
+    rigid_play_mean_arcmin: float  # the cycloid stage's rigid play (both flanks' edges apart), mean over the curve
+
+
+@dataclass(frozen=True, repr=False)
 class ContactWearRate(Result):
     """One contact's wear at the start of the service (steady coefficient; running-in multiplies it)."""
 
@@ -47,11 +58,13 @@ class FlankProfile(Result):
 
 @dataclass(frozen=True, repr=False)
 class ProductionLife(Result):
-    """A production run's precision over the service life: each unit read with the nominal unit's wear
-    at every step of its trajectory (docs/service-life.md: what this shortcut leaves out)."""
+    """A production run's precision over the service life: each unit read at every step of the nominal
+    unit's trajectory with its own wear (its discs' load shares scale the nominal unit's wear) or the
+    nominal unit's (docs/service-life.md)."""
 
     units: int
     seed: int
+    unit_wear: str  # "own": each unit's wear from its own discs' load shares; "nominal": the nominal unit's wear
     spec_lost_motion_arcmin: float
     hours: tuple[float, ...]  # the requested hours
     yield_at_hours: tuple[Proportion, ...]  # lost motion <= spec, 95 % Wilson intervals
@@ -98,6 +111,7 @@ class ServiceLifeResult(Result):
     flank_profile: FlankProfile
     production: ProductionLife | None
     partial: bool = False
+    transmission_error: tuple[LifeRipple, ...] = ()  # the nominal unit's at the requested hours
 
     def rows(self) -> list[dict]:
         return [p.to_dict() for p in self.points]
@@ -108,4 +122,7 @@ class ServiceLifeResult(Result):
         for p in self.points:
             out.append(f"{p.hours:g} h: lost motion {p.lost_motion_arcmin:.3f} arcmin, backlash "
                        f"{p.backlash_arcmin:.3f}, rigidity {p.rigidity_nm_per_arcmin:.0f} N m/arcmin")
+        for t in self.transmission_error:
+            out.append(f"{t.hours:g} h: TE {t.te_peak_to_peak_ccw_arcsec:.3f} / {t.te_peak_to_peak_cw_arcsec:.3f} "
+                       f"arcsec peak-to-peak (ccw / cw flank)")
         return out

@@ -54,6 +54,10 @@ class Trajectory:
     geometry: WearGeometry
     reference_clearance_um: float
     partial: bool
+    # the cycle's torques and their revolutions per hour, each step's equivalent steady hours (the running-in's
+    # integral over it): what a unit's own wear reads (``units``)
+    torque_revolutions: tuple[tuple[float, float], ...] = ()
+    step_equivalent_h: tuple[float, ...] = ()
 
 
 def reference_clearance_um(problem: Problem) -> float:
@@ -91,12 +95,24 @@ def hourly_wear(angles: WornAngles, cycle: DutyCycle, geo: WearGeometry, load_ge
     return total, stress
 
 
+def torque_revolutions(cycle: DutyCycle) -> tuple[tuple[float, float], ...]:
+    """Each of the cycle's torques [N m] that turns, with its output revolutions per hour of the cycle
+    (summed over the cycle's steps at that torque), in the order the cycle first meets them."""
+    out: dict[float, float] = {}
+    for step in cycle.steps:
+        if step.output_speed_rpm <= 0.0 or step.time_share <= 0.0:
+            continue
+        t = float(step.output_torque_nm)
+        out[t] = out.get(t, 0.0) + 60.0 * step.output_speed_rpm * step.time_share
+    return tuple(out.items())
+
+
 def nominal_trajectory(problem: Problem, cycle: DutyCycle, hours, *, angles: int = DEFAULT_ANGLES,
                        step_fraction: float = DEFAULT_STEP_FRACTION, wear: WearInputs | None = None,
                        realization: Realization | None = None, model: ElasticModel | None = None,
                        progress: Callable[[float], None] | None = None) -> Trajectory:
     """The nominal unit (or ``realization``, read with the tooth- and pin-averaged wear of its own
-    loads) stepped to the last of ``hours`` (module docstring). ``wear``: the [wear] inputs (None:
+    loads, with its own crank-bearing clearance and involute backlash when it has them) stepped to the last of ``hours`` (module docstring). ``wear``: the [wear] inputs (None:
     the design's); ``progress`` receives the share of the hours done."""
     targets = check_hours(hours)
     if not (isinstance(step_fraction, (int, float)) and 0.0 < step_fraction <= 1.0):
@@ -109,10 +125,14 @@ def nominal_trajectory(problem: Problem, cycle: DutyCycle, hours, *, angles: int
     needles = needle_rollers(model)
     inv, clr = other_stages_nominal(problem)
     r = realization if realization is not None else nominal_realization(problem)
+    if r.involute_backlash_rad is not None:  # a unit's own other stages (None: the nominal's)
+        inv = float(r.involute_backlash_rad)
+    if r.crank_clearance_um is not None:
+        clr = float(r.crank_clearance_um)
     c_ref = reference_clearance_um(problem)
     bound = step_fraction * c_ref
     t, state = 0.0, WearIncrement.zero(geo.discs)
-    times, states, points = [], [], []
+    times, states, points, equivalents = [], [], [], []
     initial = None
     partial = False
     last = targets[-1]
@@ -141,8 +161,10 @@ def nominal_trajectory(problem: Problem, cycle: DutyCycle, hours, *, angles: int
             end = nxt if t + dt >= nxt * (1.0 - 1e-12) else t + dt
             equivalent = wr.running_in_hours(t, end, inputs.running_in_factor, inputs.running_in_hours)
             state = state.plus(rate.scaled(equivalent))
+            equivalents.append(equivalent)
             t = end
-    return Trajectory(tuple(times), tuple(states), tuple(points), initial, geo, c_ref, partial)
+    return Trajectory(tuple(times), tuple(states), tuple(points), initial, geo, c_ref, partial,
+                      torque_revolutions(cycle), tuple(equivalents))
 
 
 def _point(t: float, figures: np.ndarray, state: WearIncrement, stress: float) -> LifePoint:
