@@ -63,6 +63,36 @@ def rv80e_toml() -> str:
 # of a warm run); files not listed follow in their usual order. Only the order changes, never what
 # runs; a stale list costs time, not coverage.
 SLOW_FIRST = (
+    "tests/cli/test_cli_interrupt.py",
+    "tests/test_benches.py",
+    "tests/report/test_html.py",
+    "tests/analysis/test_allocation.py",
+    "tests/cli/test_cli_sweep.py",
+    "tests/models/test_contact_kernel.py",
+    "tests/mechanics/test_carrier_body.py",
+    "tests/analysis/test_bench_calibration.py",
+    "tests/report/test_schemas.py",
+    "tests/analysis/test_bench_roundtrip.py",
+    "tests/cli/test_cli_json_stdout.py",
+    "tests/analysis/test_service_life.py",
+    "tests/mechanics/test_carrier_layout.py",
+    "tests/analysis/test_sweep.py",
+    "tests/app/test_app_browser.py",
+    "tests/analysis/test_selection_inventory.py",
+    "tests/cli/test_cli_hysteresis.py",
+    "tests/analysis/test_hysteresis.py",
+    "tests/report/test_capacity_report.py",
+    "tests/cli/test_cli_allocation.py",
+    "tests/app/test_app_burst.py",
+    "tests/mechanics/test_disc_body.py",
+    "tests/analysis/test_sensitivity_global.py",
+    "tests/analysis/test_statistics.py",
+    "tests/cli/test_cli_bench.py",
+    "tests/cli/test_cli.py",
+    "tests/cli/test_cli_two_cranks.py",
+    "tests/app/test_app_cli.py",
+    "tests/test_examples.py",
+    "tests/cli/test_cli_service_life.py",
 )
 
 
