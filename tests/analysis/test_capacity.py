@@ -12,16 +12,13 @@ from rvbacklash.analysis.capacity.duty import duty_cycle_life
 from rvbacklash.analysis.capacity.main_bearings import ball_pair, main_bearing_rating, solve_ball_pair
 from rvbacklash.design.duty_cycle import DutyCycle, DutyStep, read_duty_cycle
 from rvbacklash.errors import InputError
-from rvbacklash.models.elastic import elastic_model, nominal_realization, other_stages_nominal
+from rvbacklash.models.elastic import nominal_realization
 from rvbacklash.units import ARCMIN_PER_RAD
 
 
 @pytest.fixture(scope="module")
-def rv80e():
-    problem = api.prepare("rv80e")
-    model = elastic_model(problem)
-    inv, clr = other_stages_nominal(problem)
-    return problem, model, inv, clr
+def rv80e(rv80e_elastic):  # the shared (problem, model, inv, clr): tests/conftest.py
+    return rv80e_elastic
 
 
 @pytest.fixture(scope="module")

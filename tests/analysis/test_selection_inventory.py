@@ -13,9 +13,10 @@ from rvbacklash.errors import InputError
 def _brute_force(d, pin_sets, roller_sets, tol=1e-12):
     n_u, n_p, n_r = d.shape
     options = [None] + [(p, r) for p in range(n_p) for r in range(n_r)]
-    best = None
+    d, pin_sets, roller_sets = d.tolist(), [int(x) for x in pin_sets], [int(x) for x in roller_sets]  # plain
+    best = None  # Python: the 7^6 assignments in seconds, not a minute of numpy scalars
     for choice in itertools.product(options, repeat=n_u):
-        used_p, used_r = np.zeros(n_p, int), np.zeros(n_r, int)
+        used_p, used_r = [0] * n_p, [0] * n_r
         ok = built = 0
         dist = 0.0
         for u, c in enumerate(choice):
@@ -24,9 +25,9 @@ def _brute_force(d, pin_sets, roller_sets, tol=1e-12):
             used_p[c[0]] += 1
             used_r[c[1]] += 1
             built += 1
-            ok += d[u, c[0], c[1]] <= tol
-            dist += d[u, c[0], c[1]]
-        if np.any(used_p > pin_sets) or np.any(used_r > roller_sets):
+            ok += d[u][c[0]][c[1]] <= tol
+            dist += d[u][c[0]][c[1]]
+        if any(x > y for x, y in zip(used_p, pin_sets)) or any(x > y for x, y in zip(used_r, roller_sets)):
             continue
         key = (ok, built, -dist)
         if best is None or key[:2] > best[:2] or (key[:2] == best[:2] and key[2] > best[2] + 1e-12):

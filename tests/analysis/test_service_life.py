@@ -25,11 +25,8 @@ CYCLE = DutyCycle("test", (DutyStep(0.5, 15.0, 784.0), DutyStep(0.3, 15.0, -500.
 
 
 @pytest.fixture(scope="module")
-def rv80e():
-    problem = api.prepare("rv80e")
-    model = elastic_model(problem)
-    inv, clr = other_stages_nominal(problem)
-    return problem, model, inv, clr
+def rv80e(rv80e_elastic):  # the shared (problem, model, inv, clr): tests/conftest.py
+    return rv80e_elastic
 
 
 @pytest.fixture(scope="module")

@@ -52,7 +52,7 @@ def _bench_outputs(p):
     loop = write_loop_csv(folder / "loop.csv", *model_loop_samples(p, cycles=1, samples_per_branch=60,
                                                                    noise_arcmin=0.01, seed=1))
     te = write_te_csv(folder / "te.tsv", *te_curve({1: 5.0, 40: 1.0}, samples=800, noise_arcsec=0.1))
-    return {"bench": rb.read_bench([loop, te], design=p, samples=200),
+    return {"bench": rb.read_bench([loop, te], design=p, samples=100),  # the fewest allowed
             "calibrate": rb.calibrate(p, bench=loop, bootstrap=0)}
 
 
