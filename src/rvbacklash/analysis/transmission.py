@@ -20,6 +20,7 @@ import numpy as np
 from rvbacklash.errors import InputError
 from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
+                                          flank_extremes,
                                           cached_table, perfect_unit, reference_revolution,
                                           revolution)
 from rvbacklash.problem import Problem
@@ -42,15 +43,18 @@ ASSUMPTIONS = ("rigid bodies, no load; exact cycloid-pin geometry with every too
 
 
 def min_positions(problem: Problem) -> int:
-    """Fewest positions per revolution: order 4 z_p resolved (more than 8 z_p samples)."""
-    return 8 * problem.cycloid.zp + 1
+    """Fewest positions per revolution: 8 z_p, the production run's (sampling.te_source), so that a
+    saved unit can be re-run on the run's own grid; orders below 4 z_p resolved."""
+    from rvbacklash.sampling.te_source import POSITIONS_PER_PIN
+
+    return POSITIONS_PER_PIN * problem.cycloid.zp
 
 
 def check_positions(problem: Problem, positions) -> int:
     lo = min_positions(problem)
     if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or not lo <= positions <= MAX_POSITIONS:
         raise InputError("positions", positions, f"allowed: a whole number {lo} <= positions <= {MAX_POSITIONS} "
-                                                 f"(order 4 z_p resolved; z_p = {problem.cycloid.zp})")
+                                                 f"(8 z_p, the production run's grid, and up; z_p = {problem.cycloid.zp})")
     return int(positions)
 
 
@@ -89,8 +93,8 @@ class TransmissionErrorResult(Result):
     unit: str  # "nominal", or which measured / sampled unit
     positions: int
     load_direction: str  # the flank of the headline TE figures: ccw (output driven counter-clockwise) or cw
-    te_peak_to_peak_arcsec: float  # the catalogue figure, load_direction's flank
-    te_min_arcsec: float
+    te_peak_to_peak_arcsec: float  # the catalogue figure, load_direction's flank: the curve's, refined between positions
+    te_min_arcsec: float  # (the sampled curve te_*_arcsec may stay inside these: kinematics.flank_extremes)
     te_max_arcsec: float
     te_peak_to_peak_other_flank_arcsec: float
     lost_motion_max_arcmin: float
@@ -186,6 +190,16 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
 
     ccw, cw = te(run)
     main, other = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
+    loaded = load_direction == "ccw"
+    kin = kinematics(problem)
+
+    def extremes(unit: Realization, rev: Revolution, flank_ccw: bool) -> tuple[float, float]:
+        """The TE curve's min and max [arcsec] between its positions (models.kinematics.flank_extremes)."""
+        lo, hi = flank_extremes(g, unit, perfect, kin, rev, ref, flank_ccw)
+        return lo * ARCSEC_PER_RAD, hi * ARCSEC_PER_RAD
+
+    te_min, te_max = extremes(r, run, loaded)
+    other_min, other_max = extremes(r, run, not loaded)
     lm = (run.ccw_rad - run.cw_rad) * ARCMIN_PER_RAD
     spec = amplitude_spectrum(main)
     lead = [k for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1
@@ -196,13 +210,16 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
         for group in GROUPS:
             if not _has(r, perfect, group):
                 continue
-            c, w = te(revolution(problem, _without(r, perfect, group), positions, table=table))
-            m = c if load_direction == "ccw" else w
-            out_shares.append(GroupShare(group, float(np.ptp(m)), 1.0 - float(np.var(m)) / var if var > 0 else 0.0))
+            without = _without(r, perfect, group)
+            rev = revolution(problem, without, positions, table=table)
+            c, w = te(rev)
+            m = c if loaded else w
+            m_lo, m_hi = extremes(without, rev, loaded)
+            out_shares.append(GroupShare(group, m_hi - m_lo, 1.0 - float(np.var(m)) / var if var > 0 else 0.0))
     ripple = (ref.ccw_rad if load_direction == "ccw" else ref.cw_rad) * ARCSEC_PER_RAD
     return TransmissionErrorResult(
-        problem.name, label, positions, load_direction, float(np.ptp(main)), float(main.min()), float(main.max()),
-        float(np.ptp(other)), float(lm.max()), float(lm.min()), float(lm[0]), int(np.count_nonzero(run.preload_um > 0)),
+        problem.name, label, positions, load_direction, te_max - te_min, te_min, te_max,
+        other_max - other_min, float(lm.max()), float(lm.min()), float(lm[0]), int(np.count_nonzero(run.preload_um > 0)),
         float(np.ptp(ripple)), tuple(SpectralLine(int(k), float(spec[k])) for k in lead), tuple(out_shares),
         math.degrees(r.chi_rad), ASSUMPTIONS, np.degrees(theta), ccw, cw, lm, spec)
 

@@ -624,13 +624,21 @@ def stage_play(coef, stage, unit, gaps, work, play=True):
         # may interfere at every rotation; on the osculating circles every pin must be free at bc
         fall, _, rise, _ = _lowest_gaps(coef, work, md, bc)
         preloaded = min(fall, rise) < -PRELOAD_TOL_UM
+    recentred = False
     if preloaded:  # the deepest interference at the best rotation (or, if it is positive, a free unit after all)
         m, beta = _max_min_gap(coef, work, md, gaps, lo, hi)
         if m < PRELOAD_TOL_UM:
             return StagePlay(np.nan, np.nan, max(-m, 0.0), -1, -1, -1, -1)
         bc = beta
+        recentred = True
     if not play:
         return StagePlay(0.0, 0.0, 0.0, -1, -1, -1, -1)
+    if recentred:
+        # free after all, but the gaps linearised at beta = 0 are not: extrapolated to bc some are
+        # negative, and a negative linear estimate would turn the screen below inside out (the pins
+        # beyond 3 x a negative first estimate are all of them: the first contact went unseen, issue
+        # 36 item 7). The screen's estimates come from the osculating gaps at bc instead: all >= m > 0.
+        _lowest_gaps(coef, work, md, bc)
     cbc, sbc = math.cos(bc), math.sin(bc)
     play_ccw, play_cw, pin_ccw, disc_ccw, pin_cw, disc_cw = 0.0, 0.0, -1, -1, -1, -1
     for side in range(2):  # 0: counter-clockwise (beta > 0), 1: clockwise
@@ -640,8 +648,12 @@ def stage_play(coef, stage, unit, gaps, work, play=True):
         dl, jl = -1, -1
         for d in range(discs):
             for j in range(zp):
-                slope = sgn * lever[d, j]
-                est[d, j] = (gap[d, j] - lever[d, j] * bc) / slope if slope > 0.0 else np.inf
+                if recentred:  # the gap and lever at bc on the osculating circles (_lowest_gaps)
+                    slope = sgn * work.lever_um_per_rad[d, j]
+                    est[d, j] = work.value_um[d, j] / slope if slope > 0.0 else np.inf
+                else:  # the gap at 0 and its lever, linearly extrapolated to bc
+                    slope = sgn * lever[d, j]
+                    est[d, j] = (gap[d, j] - lever[d, j] * bc) / slope if slope > 0.0 else np.inf
                 if est[d, j] < first_lin:
                     first_lin, dl, jl = est[d, j], d, j
         # contact rotation of the pins near it, on their osculating circles: first the pin the linear

@@ -46,7 +46,7 @@ from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH, PinGaps,
-                                      StageWork, _linear_maxmin, free_interval_bounds, mesh_table, pin_gaps,
+                                      StageWork, free_interval_bounds, mesh_table, pin_gaps,
                                       stage_play, stage_work)
 from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
@@ -222,13 +222,68 @@ def free_interval(coef, stage, pins, unit, gaps, scratch):
 
 
 @njit(nogil=True, cache=True)
+def balanced_rotation(gaps, lo, hi):
+    """The rotation beta [rad] of a preloaded stage at which the interfering pins' contact forces
+    balance, on the linearised gaps of PinGaps ``gaps`` (gap_j(beta) = g_j - l_j beta [um], l_j
+    [um/rad]); (lo, hi): their free interval (free_interval_bounds).
+
+    Each pin pressed into the profile by p_j = max(0, l_j beta - g_j) [um] pushes along the profile
+    normal with k p_j, and l_j is that force's moment arm about the disc centre (a rotation d beta
+    closes the gap by l_j d beta), so the stage rests without torque where
+        F(beta) = sum_j l_j max(0, l_j beta - g_j) = 0,
+    the minimum of the contacts' strain energy k/2 sum_j p_j^2 (the principle of minimum potential
+    energy; ASSUMPTION: every pin contact equally stiff and linear, the first elastic refinement of
+    the rigid model). F is continuous and non-decreasing in beta, and rises wherever a pin with a
+    lever interferes: its root moves continuously with the gaps. (The rotation that maximises the
+    smallest gap, used before, does not: when the deepest interference sits at a pin without lever,
+    on the line of centres, that maximum is flat and its end jumps from one side to the other as the
+    pin's lever changes sign: 53 arcsec within 1/65 536 rev, issue 36 item 8.) When hi < lo the
+    root lies in [hi, lo] (below hi only rising gaps interfere: F < 0; above lo only falling ones);
+    when only pins without lever interfere, every beta of [lo, hi] balances and the middle is
+    returned. Newton on the piecewise-linear F (exact once the set of interfering pins is right),
+    bisection when a step leaves the bracket."""
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = gap.shape
+    left, right = min(lo, hi), max(lo, hi)
+    bracketed = math.isfinite(left) and math.isfinite(right)
+    beta = 0.5 * (left + right) if bracketed else 0.0
+    if not bracketed:
+        left, right = -np.inf, np.inf
+    for _ in range(100):
+        f, slope = 0.0, 0.0
+        for d in range(discs):
+            for j in range(zp):
+                lv = lever[d, j]
+                p = lv * beta - gap[d, j]
+                if p > 0.0:
+                    f += lv * p
+                    slope += lv * lv
+        if f == 0.0 or slope == 0.0:
+            return beta
+        if f > 0.0:
+            right = beta
+        else:
+            left = beta
+        nxt = beta - f / slope
+        if not left < nxt < right:
+            if not (math.isfinite(left) and math.isfinite(right)):
+                break  # pragma: no cover - a stage has pins with levers of both signs: F is bracketed at once
+            nxt = 0.5 * (left + right)
+        if abs(nxt - beta) <= 1e-15 + 1e-13 * abs(beta):
+            return nxt
+        beta = nxt
+    return beta
+
+
+@njit(nogil=True, cache=True)
 def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
     """Both flanks' output positions [rad] at every output position of ``table`` (PositionTable: the
     contact model's mesh_table at each) and the preload [um] (0 where the stage is free) into
     ``curve`` (FlankCurve) for the unit whose UnitErrors are ``unit``, its reference position at
     crank angle chi0 (module docstring). ``stage``: StageGeometry; ``kin``: the design's Kinematics;
-    ``scratch``: curve_scratch. Where the stage is preloaded both flanks sit at the rotation that
-    balances the deepest interferences (its linearisation) and the lost motion is 0. ``exact``:
+    ``scratch``: curve_scratch. Where the stage is preloaded both flanks sit at the rotation where
+    the interfering pins' forces balance (balanced_rotation, on the linearised gaps) and the lost
+    motion is 0. ``exact``:
     each first contact solved on the exact curve (stage_play); else linearised at the assembled
     position (unit_gaps' free interval: the production run's fast path, error bounded in the tests)."""
     a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
@@ -270,7 +325,9 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
             lo, hi, flat = free_interval(coef[n], stage, scratch.pins, placed, gaps, scratch.work.pin_tooth_pitch_um[0])
             free, ccw, cw, preload = not (hi < lo or flat < 0.0), hi, -lo, 0.0
         if not free:
-            b = _linear_maxmin(gaps, np.inf, np.inf)
+            if exact:
+                lo, hi, _ = free_interval_bounds(gaps, stage.pitch_radius_um)
+            b = balanced_rotation(gaps, lo, hi)
             curve.ccw_rad[n] = b
             curve.cw_rad[n] = b
             curve.preload_um[n] = preload
@@ -303,6 +360,76 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
         table = PositionTable(theta[part], chis[part], mesh_table(g, chis[part]) if coef is None else coef)
         te_curve(stage, kin, table, unit, float(r.chi_rad), scratch, FlankCurve(*(x[part] for x in curve)), exact)
     return curve
+
+
+# The extremes of a TE curve between its positions (flank_extremes). The curve has features narrower
+# than a position step: the first contact switches pins every 1 / (z_c z_p) rev (1560 times a revolution
+# for rv80e), and a preloaded stage whose interference only a pin on the line of centres carries is
+# pushed by that pin to one end of the rotation the other pins leave (balanced_rotation), so that its
+# flank visits the other flank's level for a fraction of a pin pitch. The sampled peak-to-peak then
+# depends on where the positions fall. Refined: the REFINE_CANDIDATES largest sampled local extremes of
+# either side over +-1 step, REFINE_POINTS sub-steps a level; and every step beside a preloaded position
+# where the other flank, at a free position next to it, lies beyond the extreme found (an excursion may
+# reach it there), over that step at EXCURSION_POINTS sub-steps; each zoomed in REFINE_LEVELS times.
+REFINE_CANDIDATES, REFINE_POINTS, EXCURSION_POINTS, REFINE_LEVELS = 6, 8, 32, 3
+
+
+def flank_te(g: ContactGeometry, r, reference, kin: Kinematics, theta: np.ndarray, ccw: bool,
+             exact: bool = True) -> np.ndarray:
+    """TE [rad] of one flank (``ccw``: the counter-clockwise one) of unit ``r`` (a Realization) at
+    output angles ``theta`` [rad]: its position minus the error-free unit's (``reference``) there,
+    both from the crank angle r.chi_rad."""
+    chi0 = float(r.chi_rad)
+    chis = chi0 - g.zc * theta
+    coef = mesh_table(g, chis)
+    a = flank_positions(g, r, theta, chis, kin, exact, coef)
+    b = flank_positions(g, reference, theta, chis, kin, exact, coef)
+    return a.ccw_rad - b.ccw_rad if ccw else a.cw_rad - b.cw_rad
+
+
+def flank_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run, ref, ccw: bool,
+                   exact: bool = True) -> tuple[float, float]:
+    """(min, max) [rad] over the revolution of the TE of one flank (``ccw``: the counter-clockwise
+    one) of unit ``r``: ``run`` and ``ref`` its and the error-free unit's (``reference``) flank
+    positions and the preload at equal output steps from theta = 0 (FlankCurve or Revolution). The
+    sampled extremes, refined between the positions (the comment above). A flat curve (the
+    error-free unit) is returned as sampled."""
+    base = ref.ccw_rad if ccw else ref.cw_rad
+    v = (run.ccw_rad if ccw else run.cw_rad) - base
+    o = (run.cw_rad if ccw else run.ccw_rad) - base  # the other flank, on the same scale
+    n = v.size
+    lo, hi = float(v.min()), float(v.max())
+    if hi == lo:
+        return lo, hi
+    step = 2.0 * math.pi / n
+    theta = step * np.arange(n)
+    preloaded = np.asarray(run.preload_um) > 0.0
+    found = []
+    for sign in (1.0, -1.0):
+        s = sign * v
+        best = float(s.max())
+        peaks = np.flatnonzero((s >= np.roll(s, 1)) & (s >= np.roll(s, -1)))
+        peaks = peaks[np.argsort(-s[peaks], kind="stable")][:REFINE_CANDIDATES]
+        # the other flank's level at the free positions beside each step: how far an excursion can reach
+        reach = np.where(preloaded, -np.inf, sign * o)
+        reach = np.maximum.reduce([np.roll(reach, k) for k in (1, 0, -1, -2)])
+        steps = np.flatnonzero((preloaded | np.roll(preloaded, -1)) & (reach > best))
+        windows = [(theta[peaks], np.full(peaks.size, step), REFINE_POINTS),
+                   (theta[steps] + 0.5 * step, np.full(steps.size, 0.5 * step), EXCURSION_POINTS)]
+        for centre, half, points in windows:
+            if centre.size == 0:
+                continue
+            for _ in range(REFINE_LEVELS):
+                offsets = np.linspace(-1.0, 1.0, points + 1)
+                at = centre[:, None] + half[:, None] * offsets[None, :]
+                w = sign * flank_te(g, r, reference, kin, at.ravel(), ccw, exact).reshape(at.shape)
+                k = np.argmax(w, axis=1)
+                best = max(best, float(w.max()))
+                centre = at[np.arange(centre.size), k]
+                half = half * 2.0 / points
+                points = REFINE_POINTS
+        found.append(sign * best)
+    return found[1], found[0]
 
 
 def kinematics(problem: Problem) -> Kinematics:
