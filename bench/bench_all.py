@@ -6,8 +6,10 @@ Rows, each with its target and pass/fail:
 1. contact model production run (rv80e, end to end through the engine, all cores) [units/s];
 2. elastic model production run (same) [units/s];
 3. wall time of `rvbacklash sensitivity rv80e --model elastic` (default N) [s];
-4. wall time of `rvbacklash allocate rv80e --model elastic --spec-arcmin 1 --yield 0.8
-   --spec-preload-um 10` [s];
+4. wall time of `rvbacklash allocate rv80e --model elastic --spec-arcmin 1.5 --yield 0.8
+   --spec-preload-um 10` [s] (a feasible spec since issue 28's chain: rv80e as given reaches 0.76,
+   the allocation finds grades at 0.80; at 1 arcmin the best candidate reached 0.45, exit 2, and
+   the row timed that refusal);
 5. linear engine (sun2014, 21 normal inputs, all cores) [M samples/s];
 6. its ratio to numpy generating the same N x 21 normals (one thread), measured in the same run.
 The engine and numpy are timed alternately ``--repeat`` times and the best of each is kept: the
@@ -29,7 +31,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_montecarlo import engine_rate, numpy_rate  # noqa: E402
 
 SENSITIVITY = ["sensitivity", "rv80e", "--model", "elastic"]
-ALLOCATE = ["allocate", "rv80e", "--model", "elastic", "--spec-arcmin", "1", "--yield", "0.8", "--spec-preload-um", "10"]
+ALLOCATE = ["allocate", "rv80e", "--model", "elastic", "--spec-arcmin", "1.5", "--yield", "0.8", "--spec-preload-um",
+            "10"]
 
 
 @dataclass(frozen=True)
@@ -40,9 +43,12 @@ class Row:
     target: float
     higher_is_better: bool
     note: str = ""
+    failed: bool = False  # the row's command failed: no figure, the note says why
 
     @property
     def verdict(self) -> str:
+        if self.failed:
+            return "FAILED"
         if self.value is None:
             return "skipped"
         ok = self.value >= self.target if self.higher_is_better else self.value <= self.target
@@ -70,17 +76,18 @@ def model_rate(model: str, samples: int) -> float:
 
 
 def command_row(args: list[str], target_s: float, skip: bool) -> Row:
-    """Wall time of one CLI command in a fresh process (start-up included, as a user waits)."""
+    """Wall time of one CLI command in a fresh process (start-up included, as a user waits). A
+    command that fails (any non-zero exit, e.g. exit 2 "no design confirmed") has no time: the
+    row says FAILED and gives the command's message."""
     label = "`rvbacklash " + " ".join(args) + "`"
     if skip:
         return Row(label, None, "s", target_s, False, "left out (--no-commands)")
     t = time.perf_counter()
     p = subprocess.run([sys.executable, "-m", "rvbacklash", *args, "--quiet"], capture_output=True, text=True)
     seconds = time.perf_counter() - t
-    if p.returncode == 2:  # a one-line answer such as "no design meets the target": the user waited for it
-        return Row(label, seconds, "s", target_s, False, f"wall time to the answer, exit 2: {p.stderr.strip()[-70:]}")
     if p.returncode:
-        return Row(label, None, "s", target_s, False, f"exit {p.returncode}: {p.stderr.strip()[-80:]}")
+        message = " ".join(p.stderr.strip().splitlines()[-1:])[-100:]
+        return Row(label, None, "s", target_s, False, f"exit {p.returncode}: {message}", failed=True)
     return Row(label, seconds, "s", target_s, False, "wall time, fresh process")
 
 

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+import threading
 from pathlib import Path
+
+import pytest
 
 from rvbacklash.design.loading import design_from_toml, example_text
 
@@ -62,3 +66,55 @@ def example_with(name: str, *replacements: tuple[str, str]):
         assert old in text, old
         text = text.replace(old, new, 1)
     return design_from_toml(text)
+
+
+# rv80e with other numbers of cranks and pillars (issue 36): the lines changed so that the holes fit
+CRANK_LAYOUTS = {
+    (3, 3): (),
+    (2, 2): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"),),
+    (2, 4): (("rated_torque_nm = 784.0", "rated_torque_nm = 520.0"),
+             ("pillar_radius_mm = 42.0", "pillar_radius_mm = 48.0"),
+             ("pillar_width_mm = 20.0", "pillar_width_mm = 12.0"), ("pillar_depth_mm = 20.0", "pillar_depth_mm = 12.0"),
+             ("disc_pillar_hole_diameter_mm = 34.0", "disc_pillar_hole_diameter_mm = 22.0")),
+    (3, 6): (("pillar_radius_mm = 42.0", "pillar_radius_mm = 57.0"),
+             ("pillar_width_mm = 20.0", "pillar_width_mm = 8.0"), ("pillar_depth_mm = 20.0", "pillar_depth_mm = 8.0"),
+             ("disc_pillar_hole_diameter_mm = 34.0", "disc_pillar_hole_diameter_mm = 16.0"),
+             ("support_bearing_seat_diameter_mm = 47.0", "support_bearing_seat_diameter_mm = 44.0")),
+}
+
+
+def crank_layout_text(cranks: int, pillars: int) -> str:
+    """rv80e's TOML with ``cranks`` planets (cranks) and ``pillars`` carrier pillars (CRANK_LAYOUTS:
+    two cranks rated 520 N m; pillars and holes small enough to stand between the cranks)."""
+    text = example_text("rv80e").replace("planets = 3", f"planets = {cranks}", 1).replace(
+        "carrier_pillars = 3", f"carrier_pillars = {pillars}", 1)
+    for old, new in CRANK_LAYOUTS[(cranks, pillars)]:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return text
+
+
+def call_beside_fifo(fifo: Path, fn, timeout: float = 60.0) -> dict:
+    """{"value": fn()} or {"error": what it raised}, fn run in a thread; if it still blocks after
+    ``timeout`` (reading the FIFO ``fifo``, which has no writer), the FIFO's write end is opened and
+    closed (the reader gets EOF and returns: nothing is left blocked) and the test fails. The
+    timeout only bounds a hang: a reader that refuses the FIFO returns at once."""
+    out = {}
+
+    def run():
+        try:
+            out["value"] = fn()
+        except BaseException as e:  # noqa: BLE001 - handed to the test
+            out["error"] = e
+
+    t = threading.Thread(target=run, daemon=True)
+    t.start()
+    t.join(timeout)
+    if t.is_alive():
+        try:
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))  # the blocked reader gets EOF
+        except OSError:
+            pass
+        t.join(10)
+        pytest.fail(f"reading {fifo} blocked for {timeout} s")
+    return out

@@ -31,3 +31,16 @@ def test_bench_runs_at_a_tiny_size_and_prints_figures(script):
         for row in ALL_ROWS:
             line = next((x for x in p.stdout.splitlines() if x.startswith(row)), None)
             assert line is not None and any(w in line.split() for w in ("pass", "FAIL")), (row, p.stdout)
+            assert "FAILED" not in line.split(), (row, line)  # its command no longer runs
+
+
+def test_a_bench_row_whose_command_fails_says_failed_not_a_time(monkeypatch):
+    """Regression (issue 35): `make bench` timed the elastic allocation's refusal ("no design
+    confirmed", exit 2) as if it were the allocation. A failing command gives no time: FAILED and
+    its message."""
+    monkeypatch.syspath_prepend(str(BENCH))
+    import bench_all
+
+    row = bench_all.command_row(["simulate", "rv80e", "--seed", "-1"], 30.0, skip=False)
+    assert (row.value, row.verdict) == (None, "FAILED") and row.note.startswith("exit 2: error: --seed")
+    assert "FAILED" in bench_all.table([row]).splitlines()[-1]

@@ -172,3 +172,45 @@ def test_the_command_line_exits_130_when_a_finished_run_was_stopped(monkeypatch,
     with pytest.raises(SystemExit) as e:
         entry.main(["simulate", "rv80e"])
     assert e.value.code == 130 and "interrupted: what was finished is written" in capsys.readouterr().err
+
+
+def _entry_point_with_ctrl_c_on_import(module: str, argv: list[str], run_as: str = "script") -> subprocess.CompletedProcess:
+    """The command as a process runs it (``run_as``: the console script's three lines, or
+    ``python -m rvbacklash``), with a Ctrl-C sent by the process to itself the moment ``module``
+    starts to be imported (a meta-path hook): the phase under test, without timing."""
+    hook = textwrap.dedent(f"""
+        import os, signal, sys
+        class CtrlCOnImport:
+            def find_spec(self, name, path=None, target=None):
+                if name == {module!r}:
+                    os.kill(os.getpid(), signal.SIGINT)
+                return None
+        sys.meta_path.insert(0, CtrlCOnImport())
+        sys.argv = ["rvbacklash", *{argv!r}]
+    """)
+    if run_as == "script":  # what pip writes into .venv/bin/rvbacklash
+        code = hook + "from rvbacklash.cli import main\nsys.exit(main())\n"
+    else:
+        code = hook + "import runpy\nrunpy.run_module('rvbacklash', run_name='__main__', alter_sys=True)\n"
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.parametrize("run_as", ["script", "module"])
+@pytest.mark.parametrize("module", ["rvbacklash.interrupt", "rvbacklash.cli.entry", "typer", "numpy"])
+def test_a_ctrl_c_while_the_command_line_imports_exits_130(module, run_as):
+    """Regression (issue 35, 2.12): a Ctrl-C while the package imported ended in a KeyboardInterrupt
+    traceback, exit -2 (it landed in the import of rvbacklash.interrupt, before the command line's
+    handler existed, or of importlib.metadata, which the package's __init__ imported for
+    __version__). The entry point sets a first handler before it imports anything."""
+    p = _entry_point_with_ctrl_c_on_import(module, ["simulate", "rv80e", "-n", "1000"], run_as)
+    assert (p.returncode, p.stdout, p.stderr) == (130, "", "interrupted: nothing was written\n")
+
+
+def test_the_entry_points_import_nothing_before_the_ctrl_c_handling():
+    """``import rvbacklash`` and ``rvbacklash.cli`` (what the console script imports before it calls
+    ``main``) import no other module: every import before the handler is a window in which a Ctrl-C
+    is a traceback. ``__version__`` is still there, imported on first use."""
+    code = ("import sys\nbefore = set(sys.modules)\nimport rvbacklash.cli\n"
+            "print(sorted(set(sys.modules) - before))\nimport rvbacklash\nprint(rvbacklash.__version__ != '')\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.stdout.splitlines() == ["['rvbacklash', 'rvbacklash.cli']", "True"], p.stderr

@@ -19,16 +19,20 @@ performance). ``njit_borrowing`` goes further for the per-unit kernels that allo
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 from pathlib import Path
 
 import numba as nb
+from numba.core.caching import FunctionCache
 from numba.core.cpu import CPUTargetOptions
+from numba.core.runtime import rtsys
 
 _PACKAGE = Path(__file__).resolve().parent
 
 
+@functools.cache
 def source_hash() -> str:
     """First 16 hex digits of the sha256 of every .py file of the package (paths and contents)."""
     h = hashlib.sha256()
@@ -47,9 +51,42 @@ def _cache_dir() -> str:
 nb.config.CACHE_DIR = _cache_dir()
 
 
+class _LoadingCache(FunctionCache):
+    """numba's on-disk cache of one function, without the half second its first load costs.
+
+    numba's ``FunctionCache.load_overload`` first refreshes the CPU target: it imports and
+    registers every implementation numba can lower (numba.cpython.*, numba.np.*, typed
+    containers, ...; ~0.5 s of CPU), which only compiling needs, since a cached kernel is machine
+    code already linked with everything it calls. Loading needs two things of the target: the
+    symbols of numba's C helpers (installed when the context is created) and of its runtime (NRT:
+    ``rtsys.initialize``, which the refresh would have done). A function that is not in the cache
+    is compiled as before: numba's compiler refreshes the target itself (``compile_extra``)."""
+
+    def load_overload(self, sig, target_context):
+        rtsys.initialize(target_context)
+        with self._guard_against_spurious_io_errors():
+            return self._load_overload(sig, target_context)
+
+
+# the numba internals _LoadingCache relies on (numba >= 0.59); without them, numba's own cache
+_FAST_LOAD = all(hasattr(FunctionCache, a) for a in ("_load_overload", "_guard_against_spurious_io_errors")) \
+    and hasattr(rtsys, "initialize")
+
+
 def njit(**options):
-    """``numba.njit(**options)`` with ``error_model="numpy"`` (module docstring)."""
-    return nb.njit(error_model="numpy", **options)
+    """``numba.njit(**options)`` with ``error_model="numpy"`` (module docstring); ``cache=True``
+    keeps the kernel in the on-disk cache that loads without refreshing numba's target
+    (``_LoadingCache``)."""
+    if not (options.get("cache") and _FAST_LOAD):
+        return nb.njit(error_model="numpy", **options)
+    decorate = nb.njit(error_model="numpy", **{**options, "cache": False})
+
+    def cached_kernel(fn):
+        dispatcher = decorate(fn)
+        dispatcher._cache = _LoadingCache(dispatcher.py_func)  # what Dispatcher.enable_caching does
+        return dispatcher
+
+    return cached_kernel
 
 
 def njit_borrowing(**options):
@@ -72,4 +109,4 @@ def njit_borrowing(**options):
     return njit(**options)
 
 
-__all__ = ["nb", "njit", "njit_borrowing"]
+__all__ = ["nb", "njit", "njit_borrowing", "source_hash"]

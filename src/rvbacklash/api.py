@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.bench import BenchResult
     from rvbacklash.analysis.calibration import CalibrationResult
+    from rvbacklash.analysis.capacity import CapacityResult
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
@@ -62,28 +63,34 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: Iterable[float] = (), workers: int | None = None, model: str | Callable = "linear",
              progress: Callable[[int], None] | None = None, stream: tuple[int, ...] = (),
-             error_model: str | None = None, save_units: int = 0) -> SimulationResult:
+             error_model: str | None = None, save_units: int = 0, life: bool = False) -> SimulationResult:
     """Monte-Carlo simulation (or ``method="exact"``): distributions of the model's outputs with
     confidence intervals, yield against the specs. Defaults: 10^6 samples, seed 0, the linear
     model, all cores. ``error_model`` (contact/elastic models) overrides the design's reading of
     the per-element errors; ``save_units`` keeps the first units with their errors (see
-    ``measured_units``). See ``rvbacklash.analysis.simulation.simulate``."""
+    ``measured_units``); ``life`` (elastic model; implied by a spec on ``life``, ``rated_torque``,
+    ``weakest_bearing_life`` or ``max_pin_stress``) adds each unit's life outputs (docs/capacity.md).
+    See ``rvbacklash.analysis.simulation.simulate``."""
     from rvbacklash.analysis.simulation import simulate as _simulate
 
     return _simulate(prepare(design), samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin,
                      specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
-                     stream=stream, error_model=error_model, save_units=save_units)
+                     stream=stream, error_model=error_model, save_units=save_units, life=life)
 
 
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
-                 preload: float | None = None) -> dict[str, float]:
+                 preload: float | None = None, life_h: float | None = None,
+                 rated_torque_nm: float | None = None) -> dict[str, float]:
     """The specs beside ``spec_arcmin``, by output name ({"lost_motion": X, "rigidity": K,
-    "preload": P}); each checked against the model that has the output. The command line
-    (``--spec-*`` flags) and the workbench (``"specs"``) read their specs through it."""
+    "preload": P, "life": L, "rated_torque": T}); each checked against the model that has the
+    output. The command line (``--spec-*`` flags) and the workbench (``"specs"``) read their specs
+    through it. A life spec asks the elastic model for its life outputs (docs/capacity.md)."""
     specs = {}
     for name, key, value, models in (("spec_lost_motion_arcmin", "lost_motion", lost_motion, ("elastic",)),
                                      ("spec_rigidity_nm_per_arcmin", "rigidity", rigidity, ("elastic",)),
-                                     ("spec_preload_um", "preload", preload, ("contact", "elastic"))):
+                                     ("spec_preload_um", "preload", preload, ("contact", "elastic")),
+                                     ("spec_life_h", "life", life_h, ("elastic",)),
+                                     ("spec_rated_torque_nm", "rated_torque", rated_torque_nm, ("elastic",))):
         if value is None:
             continue
         if model not in models:
@@ -198,7 +205,8 @@ def transmission_error(design: DesignLike, *, measured=None, unit: int | None = 
     if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < len(units):
         raise InputError("unit", unit, f"allowed: 0 to {len(units) - 1} ({len(units)} units in {source})")
     label = f"unit {k} of {source}" if len(units) > 1 else source
-    return _te(problem, unit_realization(problem, units[k]), label, n, load_direction, shares)
+    return _te(problem, unit_realization(problem, units[k]), label, n, load_direction, shares,
+               other_stages_arcmin=units[k].other_stages_arcmin)
 
 
 def measured_units(design: DesignLike, result: SimulationResult):
@@ -217,7 +225,7 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 allocate_model: str | None = None,
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
-                progress: Callable[[int], None] | None = None) -> ReportData:
+                progress: Callable[[int], None] | None = None, capacity: bool = False) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
@@ -227,8 +235,9 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
     meeting ``spec_arcmin`` [and ``spec_rigidity_nm_per_arcmin``, ``spec_preload_um``] at ``yield_target`` (with
     the Sobol chart) with ``allocate_model`` (default: ``model``; e.g. "linear" for a fast, conservative
     allocation beside a Monte-Carlo report) and ``allocate_samples`` per candidate (Monte-Carlo models);
-    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``). An
-    interrupted simulation skips what follows it; the data are then marked partial."""
+    ``sweep_dir``: a finished sweep's results (``rvbacklash sweep``); ``capacity``: the capacity and life
+    section (docs/capacity.md). An interrupted simulation skips what follows it; the data are then marked
+    partial."""
     from rvbacklash.analysis.contact import nominal_contact
     from rvbacklash.analysis.report_data import build_report_data
     from rvbacklash.analysis.scenarios import Comparison
@@ -297,8 +306,13 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                           spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
                           workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
+    cap = None
+    if capacity:  # the capacity and life section (issue 37; docs/capacity.md): the nominal unit's datasheet
+        from rvbacklash.analysis.capacity import capacity_rating
+
+        cap = capacity_rating(problem)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission)
+                             elastic, sweep, transmission, cap)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
@@ -326,6 +340,23 @@ def hysteresis(design: DesignLike, *, measured: str | Path | None = None, unit: 
     from rvbacklash.analysis.hysteresis import hysteresis as _hysteresis
 
     return _hysteresis(prepare(design), measured=measured, unit=unit, points=points)
+
+
+def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
+             life_method: str | None = None) -> CapacityResult:
+    """The capacity and life datasheet of the nominal unit (docs/capacity.md): every crank bearing's
+    load over a revolution, rating and L10 at the stated rated torque and the rated output speed, the
+    reducer's life, the derived rated torque, the momentary maximum torque and its limiting element,
+    the allowable acceleration torque, the main bearings' moment rigidity and allowable moment, and a
+    duty cycle's life (``duty_cycle``: a CSV or TOML file, design/duty_cycle.py). ``angles``: crank
+    angles per revolution (default 24); ``life_method``: iso16281 or iso281 (default: the design's
+    [capacity] life_method). The design needs [elastic] and [structure]."""
+    from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_rating
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
+    return capacity_rating(prepare(design), angles=DEFAULT_ANGLES if angles is None else angles, duty_cycle=cycle,
+                           life_method=life_method)
 
 
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,
@@ -395,34 +426,46 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
 def read_bench(files, *, design: DesignLike | None = None, rated_torque_nm: float | None = None,
                torque_unit: str | None = None, angle_unit: str | None = None, te_unit: str | None = None,
                time_unit: str | None = None, ratio: float | None = None, samples: int = 2000,
-               seed: int = 0) -> BenchResult:
-    """Measured hysteresis loops and TE curves (docs/bench-data.md): each file (CSV/TSV, units in
-    the header or given here) one unit, read by the definitions the model's loops are read by,
-    with an expanded uncertainty (k = 2) from the data's noise. With ``design``: each figure as a
+               seed: int = 0, columns: str | dict | None = None, format_profile: str | Path | None = None,
+               decimal: str | None = None) -> BenchResult:
+    """Measured hysteresis loops and TE curves (docs/bench-data.md): each file (CSV/TSV/.xlsx, units
+    in the header or given here) one unit, read by the definitions the model's loops are read by,
+    with an expanded uncertainty (k = 2) from the data's noise; a TE file of forward and backward
+    runs one unit with its lost motion against output position. With ``design``: each figure as a
     percentile of ``samples`` predicted units of its production run (elastic model for loops,
     transmission model for TE: at most 200 units), a flag beyond 0.135-99.865 % with the factor
     groups that dominate that figure (Sobol), and the batch's unit-to-unit spread against the
-    predicted one. ``rated_torque_nm``: default the design's, else the loop's peaks."""
+    predicted one. ``rated_torque_nm``: default the design's, else the loop's peaks. Rig files
+    as they come: ``columns`` a column map ("te=Transmission_Error_Fw,..." or {role: header}),
+    ``format_profile`` a TOML of the rig's format, ``decimal`` "." or "," (docs/bench-data.md,
+    "Rig files")."""
     from rvbacklash.analysis.bench import read_bench as _read_bench
+    from rvbacklash.design.bench_files import file_format
 
-    problem = prepare(design) if design is not None else None
     units = {"torque_unit": torque_unit, "angle_unit": angle_unit, "te_unit": te_unit, "time_unit": time_unit}
+    fmt = file_format(columns, format_profile, decimal, units)
+    problem = prepare(design) if design is not None else None
     return _read_bench([files] if isinstance(files, (str, Path)) else list(files), problem,
-                       rated_torque_nm=rated_torque_nm, units=units, ratio=ratio, samples=samples, seed=seed)
+                       rated_torque_nm=rated_torque_nm, units=fmt, ratio=ratio, samples=samples, seed=seed)
 
 
 def calibrate(design: DesignLike, *, bench, torque_unit: str | None = None, angle_unit: str | None = None,
               time_unit: str | None = None, bootstrap: int = 50, seed: int = 0, samples: int = 0,
-              max_evaluations: int = 200) -> CalibrationResult:
+              max_evaluations: int = 200, columns: str | dict | None = None,
+              format_profile: str | Path | None = None, decimal: str | None = None) -> CalibrationResult:
     """Fit the structure's series stiffness, the friction torque and the crank bearings' clearance
     offset of the design's nominal unit to measured loops (``bench``: one file or several, one unit
     each) by least squares; 95 % confidence intervals from the Jacobian (bootstrap over units from
     three units on, ``bootstrap`` resamples); ``result.design`` is the calibrated Design
     (``rvbacklash.report.design_toml.design_toml`` writes it). ``samples`` > 0: the units' spread
-    against that many predicted units. docs/bench-data.md."""
+    against that many predicted units. ``columns``, ``format_profile``, ``decimal``: rig files as
+    they come, as ``read_bench``. docs/bench-data.md."""
     from rvbacklash.analysis.calibration import calibrate as _calibrate
+    from rvbacklash.design.bench_files import file_format
+    from rvbacklash.sampling.seeds import check_seed
 
     files = [bench] if isinstance(bench, (str, Path)) else list(bench)
     units = {"torque_unit": torque_unit, "angle_unit": angle_unit, "time_unit": time_unit}
-    return _calibrate(prepare(design), files, units_flags=units, bootstrap=bootstrap, seed=seed, samples=samples,
-                      max_evaluations=max_evaluations)
+    fmt = file_format(columns, format_profile, decimal, units)  # the unit flags with the rig's format
+    return _calibrate(prepare(design), files, units_flags=fmt, bootstrap=bootstrap, seed=check_seed(seed),
+                      samples=samples, max_evaluations=max_evaluations)

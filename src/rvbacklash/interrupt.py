@@ -4,8 +4,10 @@
 allocations, sweeps) run inside ``stop_requested()``: while it is active, SIGINT sets an event
 that the loop checks between units of work; the loop finishes the units under way and returns
 partial results, which its caller reports marked partial. Outside the main thread (signal
-handlers cannot be installed there) the event is still returned and KeyboardInterrupt keeps its
-usual meaning.
+handlers cannot be installed there) a window yields the event of the window or ``stop_on`` it
+runs under (a loop's worker threads run a copy of its context): the workbench stops a job's loops
+by setting that event, and a Ctrl-C reaches the loops a loop runs in its threads (an allocation's
+candidates); KeyboardInterrupt keeps its usual meaning.
 
 **Library use** (a script, Jupyter): ``stop_requested`` installs its handler for the window
 only; a second Ctrl-C in the window raises KeyboardInterrupt at once, and outside a window Python's
@@ -44,11 +46,12 @@ request; and since every finished point is already on disk, a second Ctrl-C stop
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import os
 import signal
 import sys
 import threading
-from typing import Iterator
+from collections.abc import Iterator
 
 EXIT_CODE = 130  # 128 + SIGINT, what a shell reports for a process ended by Ctrl-C
 
@@ -56,6 +59,9 @@ _windows: list[threading.Event] = []  # the main thread's open stop windows, inn
 _FRESH = {"cli": False, "progress": False, "on_disk": False, "stopping": False, "writing": 0, "deferred": False,
           "told": False}
 _state = dict(_FRESH)
+# the stop event a window outside the main thread yields: the innermost window's or stop_on's
+_enclosing: contextvars.ContextVar[threading.Event | None] = contextvars.ContextVar("rvbacklash_stop", default=None)
+_dropped: contextvars.ContextVar[threading.Event | None] = contextvars.ContextVar("rvbacklash_drop", default=None)
 
 
 def _exit_now(message: str) -> None:
@@ -100,11 +106,14 @@ def _on_sigint(signum, frame) -> None:
 
 @contextlib.contextmanager
 def stop_requested() -> Iterator[threading.Event]:
-    """A stop window (module docstring): yields the event that a Ctrl-C sets."""
-    event = threading.Event()
+    """A stop window (module docstring): yields the event that a Ctrl-C sets. Outside the main
+    thread it yields the event of the enclosing window or ``stop_on`` of this thread's context
+    (a loop's worker threads run a copy of it: ``contextvars.copy_context``), so a stop reaches
+    the loops nested in them too."""
     if threading.current_thread() is not threading.main_thread():
-        yield event
+        yield _enclosing.get() or threading.Event()
         return
+    event = threading.Event()
     own = signal.getsignal(signal.SIGINT) is not _on_sigint  # library use: install for this window
     previous = None
     if own:
@@ -116,12 +125,41 @@ def stop_requested() -> Iterator[threading.Event]:
     if _state["stopping"]:  # a Ctrl-C already asked every loop to stop: this one does not start its work
         event.set()
     _windows.append(event)
+    token = _enclosing.set(event)
     try:
         yield event
     finally:
+        _enclosing.reset(token)
         _windows.remove(event)
         if own:
             signal.signal(signal.SIGINT, previous)
+
+
+class Abandoned(Exception):
+    """Work under way dropped at a ``stop_on`` stop (``check_abandoned``)."""
+
+
+@contextlib.contextmanager
+def stop_on(event: threading.Event) -> Iterator[None]:
+    """Stop requests from elsewhere than Ctrl-C (the workbench's cancel, a client gone): every stop
+    window opened inside, outside the main thread, yields ``event``; its loop stops when it is set,
+    as on Ctrl-C. Unlike a Ctrl-C's stop, whose loops finish the blocks under way and keep them,
+    a costly block may be dropped half-way (``check_abandoned``): whoever set the event does not
+    want the result."""
+    tokens = _enclosing.set(event), _dropped.set(event)
+    try:
+        yield
+    finally:
+        _dropped.reset(tokens[1])
+        _enclosing.reset(tokens[0])
+
+
+def check_abandoned() -> None:
+    """Raise ``Abandoned`` if the event of the enclosing ``stop_on`` is set: polled between the
+    chunks of a costly block (in a loop's worker thread: it runs a copy of the loop's context)."""
+    event = _dropped.get()
+    if event is not None and event.is_set():
+        raise Abandoned
 
 
 def mark_progress(on_disk: bool = False) -> None:

@@ -8,7 +8,8 @@ MM_PER_UM = 1e-3
 UM_PER_MM = 1e3
 
 # Units as field names spell them -> as people write them (reports, tables, figures)
-DISPLAY = {"arcmin": "arcmin", "um": "µm", "mm": "mm", "nm": "N·m", "nm_per_arcmin": "N·m/arcmin"}
+DISPLAY = {"arcmin": "arcmin", "um": "µm", "mm": "mm", "nm": "N·m", "nm_per_arcmin": "N·m/arcmin", "h": "h",
+           "mpa": "MPa"}
 
 
 def display_unit(unit: str) -> str:

@@ -192,3 +192,87 @@ def test_assumptions_say_what_the_model_has(rv80e):
     bare = hysteresis(prepare(rv80e.model_copy(update={"structure": st, "elastic": rv80e.elastic.model_copy(
         update={"pin_seating": "none"})}))).assumptions
     assert "disc bodies rigid" in bare and "clamped beams in rigid plates" in bare and "seats" not in bare
+
+
+# --- friction at or above the measuring torque (issue 36 item 2) ---------------------------------
+
+def with_elastic(rv80e, **changes):
+    return rb.prepare(rv80e.model_copy(update={"elastic": rv80e.elastic.model_copy(update=changes)}))
+
+
+@pytest.mark.parametrize("changes, stuck", [
+    ({"rated_torque_nm": 66.0}, True),  # x T_R = 1.98 N m < T_f = 2 N m
+    ({"rated_torque_nm": 67.0}, False),  # x T_R = 2.01 N m > T_f
+    ({"friction_torque_nm": 23.50}, False),  # x T_R = 23.52 N m (T_R = 784)
+    ({"friction_torque_nm": 23.52}, True),  # T_f = x T_R: the rising branch arrives at 0 from below
+])
+def test_friction_at_the_measuring_torque_is_said_wherever_lost_motion_is(rv80e, changes, stuck):
+    """Metamorphic: a 1.5 % change of T_R (or 0.02 N m of friction) across T_f = x T_R takes the
+    lost motion from about the backlash to a fraction of it (66 N m: 0.070 against a backlash of
+    1.588; 67 N m: 1.566; friction 23.50 -> 23.52 N m at 784 N m: 1.848 -> 0.355 arcmin), with no
+    word before issue 36. The figure is the definition's (a bench reads the same), so it stays; the
+    loop says it reads the stick band, naming the friction and x T_R, and says nothing otherwise."""
+    h = hysteresis(with_elastic(rv80e, **changes))
+    xt = h.measuring_torque_fraction * h.rated_torque_nm
+    assert h.lost_motion_in_stick_band is stuck
+    if stuck:
+        assert h.lost_motion_arcmin < 0.25 * h.backlash_arcmin  # the stick band's width, not the play
+        (w,) = h.warnings
+        assert f"friction {h.friction_torque_nm:.4g} N m" in w and f"x T_R = {xt:.4g} N m" in w and "stick band" in w
+        assert "(stick band)" in h.summary()[0]
+    else:
+        assert h.lost_motion_arcmin > 0.9 * h.backlash_arcmin and h.warnings == ()
+    d = json.loads(json.dumps(h.to_dict()))
+    assert d["lost_motion_in_stick_band"] is stuck and len(d["warnings"]) == stuck
+
+
+def test_a_production_run_in_the_stick_band_flags_its_lost_motion_and_yield(rv80e, tmp_path):
+    """simulate --model elastic: the lost motion output carries the warning (JSON, the yield row of
+    the table, the CSV's note) and the run lists it; the report puts it among its warnings, on the
+    yield card and on the elastic section's card; bench --design and calibrate carry it too. At
+    T_R = 67 N m none of them says anything."""
+    from helpers import run_cli
+    from rvbacklash.report.files import render_csv
+
+    stuck, free = with_elastic(rv80e, rated_torque_nm=66.0), with_elastic(rv80e, rated_torque_nm=67.0)
+    run = simulate(stuck, samples=300, seed=1, model="elastic", specs={"lost_motion": 1.0})
+    lm = run.outputs["lost_motion"]
+    assert lm.yield_.fraction == 1.0  # every unit "meets" 1 arcmin: the stick band, not the play
+    assert lm.warning and "stick band" in lm.warning and run.warnings == (lm.warning,)
+    assert run.outputs["backlash"].warning is None and run.outputs["rigidity"].warning is None
+    d = json.loads(json.dumps(run.to_dict()))
+    assert d["outputs"]["lost_motion"]["warning"] == lm.warning and d["warnings"] == [lm.warning]
+    assert any(r["statistic"].startswith("yield") and r["note"].startswith("warning: friction")
+               for r in run.rows() if r["output"] == "lost_motion")
+    assert "stick band" in render_csv(run.rows())
+    other = simulate(free, samples=300, seed=1, model="elastic", specs={"lost_motion": 1.0})
+    assert other.warnings == () and all(o.warning is None for o in other.outputs.values())
+
+    design = tmp_path / "t66.toml"
+    from rvbacklash.report.design_toml import design_toml
+
+    design.write_text(design_toml(stuck.design, "T_R 66 N m"))
+    p = run_cli("simulate", design, "--model", "elastic", "-n", "300", "--spec-lost-motion-arcmin", "1")
+    assert p.returncode == 0, p.stderr
+    text = " ".join(p.stdout.split())
+    assert "(see warning)" in text and "warning (lost_motion): friction 2 N m >= the measuring torque" in text
+
+    data = rb.make_report(stuck, samples=300, seed=1, model="elastic", specs={"lost_motion": 1.0})
+    assert any("stick band" in w for w in data.warnings)
+    html = rb.render_html(data)
+    cards = html[html.index('id="headline"'):html.index('id="headline-model"')]
+    assert "stick band" in cards and 'id="stick-band"' in html
+
+    from rvbacklash.analysis.bench_synthetic import model_loop_samples, write_loop_csv
+
+    t, q, a = model_loop_samples(stuck, cycles=1, samples_per_branch=150, noise_arcmin=0.002, seed=2)
+    loop = write_loop_csv(tmp_path / "loop.csv", t, q, a)
+    b = rb.read_bench([loop], design=stuck, samples=100, seed=1)
+    assert len(b.warnings) == 1 and "stick band" in b.warnings[0]
+    assert json.loads(json.dumps(b.to_dict()))["warnings"] == list(b.warnings)
+    c = rb.calibrate(stuck, bench=[loop], bootstrap=0)
+    assert any(w.startswith("before") and "stick band" in w for w in c.warnings)
+    s = rb.sensitivity(stuck, model="elastic", output="lost_motion", samples=64, resamples=100)
+    assert any("stick band" in n for n in s.notes)
+    assert not any("stick band" in n for n in rb.sensitivity(stuck, model="elastic", output="backlash", samples=64,
+                                                              resamples=100).notes)

@@ -213,7 +213,8 @@ def test_simulation_result_is_typed_and_short(rv80e_problem):
         r.quantiles.at(0.95)
     d = r.to_dict()
     assert set(d["outputs"]) == {"backlash"} and "sigma" in d["outputs"]["backlash"]
-    assert {"probability", "value", "ci95_low", "ci95_high"} == set(d["outputs"]["backlash"]["quantiles"]["table"][0])
+    assert {"probability", "value", "ci95_low", "ci95_high", "bounded", "needs_samples"} == \
+        set(d["outputs"]["backlash"]["quantiles"]["table"][0])
     assert "yield" in d["outputs"]["backlash"] and "std_arcmin" not in str(d)
     frame = r.to_frame()
     assert frame.loc[frame["statistic"] == "mean", "value"].item() == pytest.approx(r.mean_arcmin)

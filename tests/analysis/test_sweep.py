@@ -249,6 +249,56 @@ def stop_after(n: int):
     return stop, progress
 
 
+def stop_while_running(point: int, stop: threading.Event, partial: bool = False):
+    """evaluate_point, with a Ctrl-C (``stop`` set) while ``point`` runs: inline, the point's own run
+    stops after its blocks under way; ``partial`` says whether samples were left (else they were
+    all under way, and the point finishes)."""
+    import dataclasses
+
+    def evaluate(task):
+        if task.index != point:
+            return evaluate_point(task)
+        stop.set()
+        outcome = evaluate_point(task)
+        return dataclasses.replace(outcome, partial=True) if partial else outcome
+    return evaluate
+
+
+@pytest.mark.parametrize("partial", [False, True])
+def test_a_ctrl_c_inline_keeps_the_point_under_way_only_if_its_run_finished(plan, inline_rows, tmp_path,
+                                                                             monkeypatch, partial):
+    """docs/sweeps.md (issue 36 item 14): inline, the point being computed when Ctrl-C comes is kept
+    if its run still finished, dropped if its run stopped short; either way the sweep is partial,
+    "interrupted", and stops submitting."""
+    import rvbacklash.analysis.sweep as sweep_module
+
+    stop = threading.Event()
+    monkeypatch.setattr(sweep_module, "evaluate_point", stop_while_running(2, stop, partial))
+    out = tmp_path / "out"
+    r = run_sweep(plan, out=out, scheduler="inline", workers=1, stop=stop)
+    kept = [0, 1] if partial else [0, 1, 2]
+    assert r.partial and [row["point"] for row in r.rows()] == kept
+    assert r.rows() == inline_rows[:len(kept)]
+    state = json.loads((out / "sweep.json").read_text())
+    assert state["status"] == "partial" and state["interrupted"] is True and state["points_done"] == len(kept)
+
+
+def test_a_ctrl_c_in_the_last_point_that_finishes_it_leaves_a_complete_sweep(plan, inline_rows, tmp_path,
+                                                                            monkeypatch):
+    """Issue 36 item 14: the state said "complete" and "interrupted": true at once. Every point is
+    finished: complete, not interrupted (nothing to resume), and the rows are the sweep's."""
+    import rvbacklash.analysis.sweep as sweep_module
+
+    stop = threading.Event()
+    monkeypatch.setattr(sweep_module, "evaluate_point", stop_while_running(len(plan) - 1, stop))
+    out = tmp_path / "out"
+    r = run_sweep(plan, out=out, scheduler="inline", workers=1, stop=stop)
+    assert stop.is_set() and not r.partial and r.rows() == inline_rows
+    state = json.loads((out / "sweep.json").read_text())
+    assert state["status"] == "complete" and state["interrupted"] is False and state["points_done"] == len(plan)
+    assert not load_sweep(out).partial
+
+
 @pytest.mark.parametrize("where", ["inline", "cluster"])
 def test_an_interrupted_sweep_resumes_without_losing_or_repeating_a_point(plan, inline_rows, cluster, tmp_path, where):
     out = tmp_path / "out"

@@ -128,7 +128,8 @@ def test_a_bad_zone_is_the_clis_one_line(client, tmp_path):
 
 @pytest.mark.parametrize("body,field,fragment", [
     ({"specs": {"lost_motion_arcmin": 1.0}}, "specs.lost_motion_arcmin", "allowed with --model elastic only"),
-    ({"specs": {"arcmin": -1}}, "spec_arcmin", ""),
+    # the request's field, not the API's parameter (spec_arcmin): the page puts the line beside its control
+    ({"specs": {"arcmin": -1}}, "specs.arcmin", "specs.arcmin = -1.0: allowed: a finite number > 0"),
     ({"specs": {"wobble": 1}}, "specs", "allowed: an object with keys"),
     ({"samples": 0}, "samples", "allowed: a whole number 1 to"),
     ({"samples": 2.5}, "samples", "allowed: a whole number"),
@@ -145,6 +146,32 @@ def test_bad_input_names_its_field_in_one_line(client, body, field, fragment):
     err = r.json()
     assert err["field"] == field and fragment in err["error"] and "\n" not in err["error"]
     assert "Traceback" not in r.text
+
+
+@pytest.mark.parametrize("body,field,fragment", [
+    ({"spec_arcmin": 3, "yield": 2}, "yield", "yield = 2.0: allowed: a probability 0.5 < P < 1"),
+    ({"spec_arcmin": -3, "yield": 0.99}, "spec_arcmin", "spec_arcmin = -3.0: allowed: a finite number > 0"),
+    ({"spec_arcmin": 3, "yield": 0.99, "model": "contact", "spec_rigidity_nm_per_arcmin": 400},
+     "spec_rigidity_nm_per_arcmin", "spec_rigidity_nm_per_arcmin = 400.0"),
+])
+def test_an_allocations_bad_input_names_the_requests_field(client, body, field, fragment):
+    """The request's "yield", not the API's yield_target (issue 35, 2.10)."""
+    r = client.post("/api/allocate", json={"design": "rv80e", **body})
+    assert r.status_code == 422, r.text
+    err = r.json()
+    assert err["field"] == field and err["error"].startswith(fragment) and "\n" not in err["error"], err
+
+
+def test_deeply_nested_json_is_the_one_line_refusal(client):
+    """100 000 "[" used to end in a RecursionError (HTTP 500, issue 35, 2.5); nesting past what any
+    request needs is refused as well, before anything reads it (edits, the cache's key)."""
+    for content in (b"[" * 100_000, b'{"design": "rv80e", "edits": {"a": ' + b"[" * 500 + b"]" * 500 + b"}}"):
+        r = client.post("/api/simulate", content=content, headers={"Content-Type": "application/json"})
+        assert r.status_code == 422, r.text[:300]
+        assert r.json() == {"error": "body: nested too deep; allowed: a JSON object nested at most 16 deep",
+                            "field": "body"}
+    r = client.post("/api/simulate", json={"design": "rv80e", "samples": 1000, "request_id": "x" * 5000})
+    assert r.status_code == 422 and r.json()["field"] == "request_id" and "at most 200 characters" in r.json()["error"]
 
 
 def test_the_body_is_size_limited(client):

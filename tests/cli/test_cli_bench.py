@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import rvbacklash as rb
-from helpers import one_line_error, run_cli
+from helpers import call_beside_fifo, one_line_error, run_cli
 from rvbacklash.analysis.bench_synthetic import model_loop_samples, te_curve, write_loop_csv, write_te_csv
 from rvbacklash.report.schemas import output_schema
 
@@ -117,6 +117,13 @@ def as_text(rows, header=GOOD):
     ("no angle", "torque [N m],time [s]\n0,1\n", "column 'angle': missing"),
     ("TE with a gap", "output angle [deg],te [arcsec]\n" + "".join(f"{k * 0.5},{k % 7}\n" for k in range(600)),
      "column 'output angle [deg]': the samples span 299.5 deg"),
+    # issue 35: exit 0 with wrong figures before (inf arcmin from a finite cell), a shuffled time accepted
+    ("overflow on conversion", "output angle [deg],te [arcsec]\n" + "".join(f"{k * 0.5},{k % 7}\n" for k in range(720))
+     + "1e308,1\n", "column 'output angle [deg]' = 1e+308: row 722: inf arcmin once converted"),
+    ("time goes back", as_text(loop_rows()[:50] + loop_rows()[60:70] + loop_rows()[50:60] + loop_rows()[70:]),
+     "column 'time [s]': row 62: the time goes back (0.69 s, then 0.5 s; 1 such step)"),
+    ("unrecognised columns", "phi,M,zeit\n1,2,3\n", "no column of a known quantity (columns found: 'phi', 'M', "
+                                                     "'zeit'); allowed: headers such as 'torque [N m]'"),
 ])
 def test_bad_bench_data_is_one_line_naming_file_and_column(tmp_path, case, text, fragment):
     f = tmp_path / "bad.csv"
@@ -150,3 +157,29 @@ def test_calibrate_errors_write_nothing(rv80e, tmp_path):
     assert "stiffer than these loops resolve" in line and not out.exists()
     one_line_error(run_cli("calibrate", "sun2014", "--bench", f, "--write-design", out), "error: elastic")
     assert not out.exists()
+
+
+# --- issue 35: defects of the tryout, each one line and exit 2 (they hung, or printed a traceback) -------
+
+def test_a_negative_seed_is_refused_as_everywhere(tmp_path):
+    """`--seed -1` with --design was a numpy traceback, without it silently accepted."""
+    te = write_te_csv(tmp_path / "te.tsv", *te_curve({1: 8.0}, samples=800))
+    for args in ((), ("--design", "rv80e", "-n", "100")):
+        one_line_error(run_cli("bench", te, *args, "--seed", "-1"), "error: --seed = -1: allowed: an integer >= 0")
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "mkfifo"), reason="no FIFOs here")
+@pytest.mark.parametrize("command", ["bench", "calibrate"])
+def test_a_fifo_as_a_bench_file_is_refused_not_waited_on(tmp_path, command):
+    import os
+
+    fifo = tmp_path / "loop.csv"
+    os.mkfifo(fifo)
+    args = ("bench", fifo) if command == "bench" else ("calibrate", "rv80e", "--bench", fifo)
+    out = call_beside_fifo(fifo, lambda: run_cli(*args))
+    one_line_error(out["value"], f"error: {fifo}: a FIFO (named pipe), not a regular file")
+
+
+def test_a_bench_file_name_too_long_says_so(tmp_path):
+    f = tmp_path / ("unit" * 75 + ".csv")
+    one_line_error(run_cli("bench", f), "file name too long (304 bytes); allowed: names of at most")

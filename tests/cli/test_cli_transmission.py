@@ -28,7 +28,12 @@ def test_nominal_curve_json_csv_plot(tmp_path):
     data = json.loads((tmp_path / "te.json").read_text())
     assert data["te_peak_to_peak_arcsec"] == 0.0 and len(data["te_ccw_arcsec"]) == 400
     assert len(data["spectrum_amplitude_arcsec"]) == 201
-    assert 1.0 < data["lost_motion_reference_arcmin"] < 1.2
+    assert 1.0 < data["cycloid_stage_reference_arcmin"] < 1.2  # the cycloid stage alone
+    # the output's lost motion: the stage plus the other stages (their linear means for the nominal unit)
+    assert data["other_stages_from"] == "linear means" and data["other_stages_arcmin"] > 0.1
+    assert data["lost_motion_reference_arcmin"] == pytest.approx(data["cycloid_stage_reference_arcmin"]
+                                                                 + data["other_stages_arcmin"], rel=1e-12)
+    assert data["lost_motion_max_arcmin"] == pytest.approx(max(data["lost_motion_arcmin"]), rel=1e-12)
     assert (tmp_path / "te.csv").read_text().splitlines()[0].startswith("output_angle_deg")
     assert (tmp_path / "te.svg").read_text().lstrip().startswith("<")
 
@@ -100,3 +105,38 @@ def test_a_saved_transmission_unit_runs_in_every_measured_unit_command(tmp_path)
         p = run_cli(command, "rv80e", "--measured", units, "--unit", "1", "--json", out, "-q")
         assert p.returncode == 0 and "Traceback" not in p.stderr, (command, p.stderr[-2000:])
         assert json.loads(out.read_text())["schema_version"]
+
+
+def test_lost_motion_means_the_same_in_the_run_and_for_one_unit(tmp_path):
+    """Issue 36 item 11: a unit saved by `simulate --model transmission` re-run alone by
+    `transmission-error --measured` reads the run's backlash as its lost motion at the reference
+    position (the cycloid stage plus the unit's involute and crank stages, as in `contact`), and
+    the run's cycloid stage as ``cycloid_stage_reference_arcmin``. Before, the command's
+    ``lost_motion_reference_arcmin`` was the cycloid stage alone (unit 2 of seed 3: 0.1627 against
+    the run's 0.7053)."""
+    units, run_json = tmp_path / "u.toml", tmp_path / "run.json"
+    p = run_cli("simulate", "rv80e", "--model", "transmission", "-n", "8", "--seed", "3", "--save-units", "8", units,
+                "--json", run_json, "-q")
+    assert p.returncode == 0, p.stderr
+    import rvbacklash as rb
+    from rvbacklash.design.measured import load_units
+
+    run = rb.simulate("rv80e", model="transmission", samples=8, seed=3, save_units=8, workers=1)
+    saved = load_units(units, load_design("rv80e"))
+    checked = 0
+    for k, (r, linear_arcmin, stage_arcmin) in enumerate(run.units):
+        out = tmp_path / f"{k}.json"
+        q = run_cli("transmission-error", "rv80e", "--measured", units, "--unit", str(k), "--json", out, "-q")
+        assert q.returncode == 0, q.stderr
+        d = json.loads(out.read_text())
+        assert d["other_stages_from"] == "given"
+        assert d["other_stages_arcmin"] == pytest.approx(saved[k].other_stages_arcmin, rel=1e-12)
+        assert d["other_stages_arcmin"] == pytest.approx(linear_arcmin, rel=1e-8)  # as the TOML file keeps it
+        assert d["lost_motion_reference_arcmin"] == pytest.approx(d["cycloid_stage_reference_arcmin"]
+                                                                  + d["other_stages_arcmin"], rel=1e-12)
+        # the run's backlash of this unit; the run linearises each flank at its position, the command
+        # solves it exactly: they differ by up to 0.010 arcmin here (unit 7: 0.2104 / 0.2003), far
+        # less than the other stages (>= 0.11 arcmin) that the command used to leave out
+        assert d["lost_motion_reference_arcmin"] == pytest.approx(linear_arcmin + stage_arcmin, abs=0.02)
+        checked += stage_arcmin > 0.0
+    assert checked >= 2

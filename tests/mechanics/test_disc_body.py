@@ -170,7 +170,10 @@ def test_pin_loads_in_the_disc_frame(rv80e_problem):
     back += g.a_mm * np.array([math.cos(chi_d), math.sin(chi_d)])
     assert np.max(np.abs(back - housing)) < 1e-9  # the pins' centres, back in the housing frame
     with pytest.raises(InputError, match="pin_forces_n"):
-        pin_load(rv80e_problem, 0.0, 0, -np.ones(g.zp))
+        pin_load(rv80e_problem, 0.0, 0, np.full(g.zp, np.nan))
+    # a change of load may unload a pin (a preloaded unit's opposite flank, models/elastic/bodies.py): signed
+    pulled = pin_load(rv80e_problem, 0.3, 1, -np.ones(g.zp))
+    assert np.allclose(pulled.force_n, -load.force_n) and pulled.torque_nmm == pytest.approx(-load.torque_nmm)
 
 
 def _with(*edits: tuple[str, str]):

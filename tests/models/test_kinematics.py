@@ -64,8 +64,8 @@ def test_lost_motion_at_todays_crank_angle_is_todays_play(problem):
         if today.preloaded:
             continue
         res = transmission_error(problem, r, "sampled", 8 * g.zp + 1, shares=False)
-        assert res.lost_motion_reference_arcmin == pytest.approx(today.total_arcmin, abs=1e-6)
-        assert res.lost_motion_reference_arcmin == pytest.approx(exact_play(g, r).total_arcmin, abs=1e-6)
+        assert res.cycloid_stage_reference_arcmin == pytest.approx(today.total_arcmin, abs=1e-6)
+        assert res.cycloid_stage_reference_arcmin == pytest.approx(exact_play(g, r).total_arcmin, abs=1e-6)
         checked += 1
     assert checked >= 3
 
@@ -137,7 +137,7 @@ def test_group_shares_name_the_groups_a_unit_has(problem):
     assert "disc teeth (cumulative pitch)" in names and "crank holes (disc, carrier)" not in names
     assert set(names) <= set(GROUPS)
     assert res.te_peak_to_peak_arcsec > 1.0
-    assert res.to_frame().shape == (8 * problem.cycloid.zp + 1, 4)
+    assert res.to_frame().shape == (8 * problem.cycloid.zp + 1, 5)  # + the cycloid stage alone (issue 36 item 11)
     assert "peak-to-peak" in repr(res)
 
 

@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 
+from rvbacklash.design.loading import design_from_toml
 from rvbacklash.errors import InputError
 from rvbacklash.models import compliance as cm
 from rvbacklash.models import elastic as el
@@ -166,15 +167,38 @@ def test_needle_law_fit_and_its_error(problem, model):
     roller = ro.sliced_roller("logarithmic", e.crank_bearing_roller_length_mm, e.crank_bearing_roller_diameter_mm,
                               False, None, None)
     straight_chain = el.elastic_model(prepare(with_profiles(problem.design, "straight", "straight"))).chain
-    for clearance in (0.0, 4.5, 9.0):
+    for clearance in (0.0, 4.5, 9.0, 18.0):  # the range is fitted without clearance: beyond it the law extrapolates
         cs = ch.prepare_rollers(clearance, model.roller_cos, c)
-        for fraction in (0.03, 0.5, 1.0):
+        for fraction in (0.01, 0.03, 0.5, 1.0):
             load = fraction * c.rated_torque_nm * c.bearing_force_n_per_nm
             exact = sv.solve_sliced_set(cs, roller, straight_chain.roller_a, straight_chain.roller_b, 1.0, 1.0, load,
                                         1.0) - 0.5 * clearance
             fitted = sv.solve_set(cs, sv.ContactLaw(0.0, c.roller_n, 1.0), load, 1.0, np.nan,
                                   (np.nan, np.nan)).x - 0.5 * clearance
             assert fitted == pytest.approx(exact, rel=0.03), (clearance, fraction)
+
+
+@pytest.mark.parametrize("old, new", [
+    ("measuring_torque_fraction = 0.03", "measuring_torque_fraction = 0.01"),
+    ("measuring_torque_fraction = 0.03", "measuring_torque_fraction = 0.05"),
+    ("[factors.bearing_eccentricity]", "[factors.crank_bearing_clearance]\nlower_um = 4.5\nupper_um = 4.5\n\n"
+                                       "[factors.bearing_eccentricity]"),
+    ("[factors.bearing_eccentricity]", "[factors.crank_bearing_clearance]\nlower_um = 0.0\nupper_um = 18.0\n"
+                                       "mean_um = 4.5\n\n[factors.bearing_eccentricity]")])
+def test_the_needle_law_moves_with_neither_the_reading_nor_the_zone(problem, model, old, new):
+    """Issue 36: the needle law was fitted from the lost motion's torque to the rated torque with the
+    zone's largest clearance, so the nominal unit's figures moved when nothing about it did (50-100 %
+    rigidity 310.32 at a measuring fraction of 1 % against 309.33 at 5 %; 310.18 with the crank
+    clearance zone [4.5, 4.5] against 309.20 with [0, 18] about the same 4.5 um mean). Fitted over a
+    range set by the rated torque alone (rollers.fit_load_range_n), the law and the rigidity stay."""
+    text = example_text("rv80e")
+    assert old in text
+    changed = prepare(design_from_toml(text.replace(old, new, 1)))
+    other = el.elastic_model(changed)
+    assert other.needle_fit == model.needle_fit
+    rigidity = [el.PreparedUnit(m, el.nominal_unit(p)).figures()[el.RIGIDITY]
+                for m, p in ((model, problem), (other, changed))]
+    assert rigidity[1] == pytest.approx(rigidity[0], rel=1e-9)
 
 
 def test_straight_profiles_are_todays_chain(problem, model):

@@ -200,6 +200,16 @@ def test_each_model_leads_with_its_own_figures(model_reports):
             assert 'id="where-lost-motion"' in text and "Elastic model</strong>" in text
         if model == "transmission":  # its own section: curves, spectrum, histogram with the spec
             assert {"simulation.transmission_error.mean", "simulation.transmission_error.yield"} <= keys
+            # issue 36 item 10: its own title, lead, card labels and model name (they were the linear
+            # model's title and lead, the elastic model's backlash label and a raw key)
+            shown = " ".join(re.sub(r"<[^>]+>", " ", cards).split())
+            assert ">Transmission error of" in text and ">Backlash of" not in text
+            assert "angular transmission error of every unit of a production run" in text
+            assert "21 error factors" not in text[:text.index('id="headline"')]
+            assert "loop width" not in shown and "transmission_error" not in shown and "_" not in shown, shown
+            assert "mean TE peak-to-peak" in shown and "mean rigid lost motion (reference position)" in shown
+            assert "yield, TE peak-to-peak ≤ 60" in shown and "yield, rigid lost motion (reference position) ≤ 3" in shown
+            assert "transmission model (each unit of the contact model" in text
             assert 'id="transmission-error"' in text and 'id="fig-te-curves"' in text
             assert 'id="fig-te-histogram"' in text and "spec ≤ 60″" in text
             section = data["transmission"]

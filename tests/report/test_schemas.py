@@ -32,6 +32,7 @@ def _outputs():
         "sweep": sweep,
         "transmission-error": rb.transmission_error(p, positions=400),
         "contact": rb.contact(p),
+        "capacity": rb.capacity(p, angles=6),
         **_bench_outputs(p),
     }
 
@@ -60,7 +61,7 @@ def test_every_listed_output_has_a_schema():
     from rvbacklash.cli.commands import SchemaOutput
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
-                            "transmission-error", "contact", "bench", "calibrate"}
+                            "transmission-error", "contact", "bench", "calibrate", "capacity"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 

@@ -4,8 +4,10 @@ import numpy as np
 import pytest
 
 from rvbacklash.analysis.simulation import simulate
+from rvbacklash.mechanics import fe_cache
 from rvbacklash.problem.contact_errors import IndexedPart
-from rvbacklash.sampling.part_errors import (TARGET_CONFORMITY, HarmonicPart, Wave, calibrate, conforms,
+from rvbacklash.sampling import part_errors
+from rvbacklash.sampling.part_errors import (TARGET_CONFORMITY, HarmonicPart, Wave, _calibrate, calibrate, conforms,
                                              element_harmonics, harmonic_deviations, sample_parts)
 
 
@@ -70,5 +72,20 @@ def test_calibration_reaches_its_target_and_is_fixed():
     assert h.second_um == pytest.approx(0.5 * h.first_um) and h.radial_element_um == h.element_um
     # per-element part: 1 % of the parts break f_pt through it alone (max of 40 differences)
     assert h.element_um == pytest.approx(7.0 / (np.sqrt(2) * 3.66), rel=0.01)
+    assert _calibrate(part) == h  # deterministic: the same calibration every time
+
+
+def test_the_calibration_is_computed_once_per_machine(tmp_path, monkeypatch):
+    """A command's start-up paid ~0.4 s of CPU for the contact model's two calibrations (issue 35):
+    they are kept in the disk cache and read back, the same numbers."""
+    monkeypatch.setenv("RVBACKLASH_CACHE_DIR", str(tmp_path))
+    part = IndexedPart("pin holes", 40, 25.5, 7.0, 20.0, "test")
     calibrate.cache_clear()
-    assert calibrate(part) == h  # deterministic: the same calibration every time
+    fe_cache.clear_memory()
+    h = calibrate(part)
+    assert [p.name.startswith("part-calibration-") for p in (tmp_path / "fe").iterdir()] == [True]
+    fresh = _calibrate(part)
+    calibrate.cache_clear()
+    fe_cache.clear_memory()
+    monkeypatch.setattr(part_errors, "_calibrate", lambda part: pytest.fail("computed again"))
+    assert calibrate(part) == h == fresh

@@ -27,10 +27,17 @@ TE_POSITIONS equal steps of an output revolution (samples binned by position, th
 their centres, periodic interpolation of empty bins), its peak-to-peak and its spectrum by order
 read as the model's (``analysis.transmission.amplitude_spectrum``; each order divided by the
 bins' own averaging, sinc(m / N)).
+
+A TE file of two runs (the forward and backward runs of one unit side by side, or marked by a
+direction column) is one unit: each run read as above on the same positions (from the forward
+run's first sample), and its lost motion at every output position the gap between the runs, by
+the transmission model's definition (``models.kinematics.lost_motion_arcmin``, the upper run as
+its ccw flank), its mean, least and largest reported.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,8 +48,10 @@ import numpy as np
 from rvbacklash.analysis.hysteresis import HysteresisBranch, RigiditySecant
 from rvbacklash.analysis.loop_reading import BRANCHES, SECANT_INTERVALS, loop_figures, secant_key
 from rvbacklash.analysis.transmission import SPECTRUM_FLOOR_ARCSEC, SpectralLine, amplitude_spectrum
-from rvbacklash.design.bench_files import BenchTable, read_bench_table
+from rvbacklash.design.bench_files import BenchTable, FileFormat, read_bench_table
 from rvbacklash.errors import InputError
+from rvbacklash.models.kinematics import ARCSEC_PER_RAD, lost_motion_arcmin
+from rvbacklash.sampling.seeds import check_seed
 from rvbacklash.results import EXPORT, Result
 
 TURN_FRACTION = 0.2  # hysteresis threshold of the turning points, of the torque's range
@@ -103,6 +112,7 @@ class BenchLoop(Result):
     angle_arcmin: np.ndarray = field(default=None, metadata={EXPORT: False})
     branch_index: np.ndarray = field(default=None, metadata={EXPORT: False})  # into BRANCHES
     node_sigma_arcmin: dict = field(default=None, metadata={EXPORT: False})
+    metadata: tuple[str, ...] = ()  # the file's lines above its header (a rig's metadata), as written
 
     def figures(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in FIGURES}
@@ -140,6 +150,7 @@ class BenchTransmissionError(Result):
     output_angle_deg: np.ndarray = field(default=None, metadata={EXPORT: True})
     te_arcsec: np.ndarray = field(default=None, metadata={EXPORT: True})
     spectrum_amplitude_arcsec: np.ndarray = field(default=None, metadata={EXPORT: True})
+    metadata: tuple[str, ...] = ()  # the file's lines above its header (a rig's metadata), as written
 
     def figures(self) -> dict[str, float]:
         return {"te_peak_to_peak_arcsec": self.te_peak_to_peak_arcsec}
@@ -155,14 +166,56 @@ class BenchTransmissionError(Result):
 
 
 @dataclass(frozen=True, repr=False)
+class BenchTwoRunTE(Result):
+    """One unit's measured TE in both directions (the forward and backward runs of one file) and
+    its lost motion against output position: the gap between the runs."""
+
+    source: str
+    kind: str  # "transmission_error_two_runs"
+    forward: BenchTransmissionError  # each run read as a TE file, on the same output positions
+    backward: BenchTransmissionError
+    te_peak_to_peak_arcsec: float  # the forward run's
+    te_peak_to_peak_backward_arcsec: float
+    ccw_run: str  # forward | backward: the upper curve, read as the model's ccw flank
+    lost_motion_mean_arcmin: float  # the gap between the runs, averaged over the output revolution
+    lost_motion_min_arcmin: float
+    lost_motion_max_arcmin: float
+    notes: tuple[str, ...]
+    placement: tuple[Placement, ...] = ()
+    metadata: tuple[str, ...] = ()  # the file's lines above its header (a rig's metadata), as written
+    output_angle_deg: np.ndarray = field(default=None, metadata={EXPORT: True})
+    lost_motion_arcmin: np.ndarray = field(default=None, metadata={EXPORT: True})  # at each output position
+
+    def figures(self) -> dict[str, float]:
+        return {"te_peak_to_peak_arcsec": self.te_peak_to_peak_arcsec,
+                "te_peak_to_peak_backward_arcsec": self.te_peak_to_peak_backward_arcsec,
+                "lost_motion_mean_arcmin": self.lost_motion_mean_arcmin}
+
+    def rows(self) -> list[dict]:
+        return [{"source": self.source, "output_angle_deg": float(a), "te_forward_arcsec": float(f),
+                 "te_backward_arcsec": float(b), "lost_motion_arcmin": float(g)}
+                for a, f, b, g in zip(self.output_angle_deg, self.forward.te_arcsec, self.backward.te_arcsec,
+                                      self.lost_motion_arcmin)]
+
+    def summary(self) -> list[str]:
+        def lines(u):
+            return ", ".join(f"{s.order}: {s.amplitude_arcsec:.2f}" for s in u.leading_orders[:5]) or "none"
+        return [f"{self.source}: TE peak-to-peak {self.te_peak_to_peak_arcsec:.2f} arcsec forward, "
+                f"{self.te_peak_to_peak_backward_arcsec:.2f} backward; lost motion {self.lost_motion_mean_arcmin:.4f} "
+                f"arcmin mean ({self.lost_motion_min_arcmin:.4f} .. {self.lost_motion_max_arcmin:.4f})",
+                f"leading orders [arcsec]: forward {lines(self.forward)}; backward {lines(self.backward)}"]
+
+
+@dataclass(frozen=True, repr=False)
 class BenchResult(Result):
     """A batch of measured units (one file each), and with a design their place in its production run."""
 
     design_name: str | None
     samples_predicted: int  # units of the predicted production run (0: no design)
     seed: int
-    units: tuple[BenchLoop | BenchTransmissionError, ...]
+    units: tuple[BenchLoop | BenchTransmissionError | BenchTwoRunTE, ...]
     spread: dict[str, dict[str, float]]  # figure -> {"measured_sigma": .., "predicted_sigma": .. | None, "units": n}
+    warnings: tuple[str, ...] = ()  # of the design's predictions, e.g. its lost motion read in a stick band
 
     def rows(self) -> list[dict]:
         out = []
@@ -398,24 +451,38 @@ def _propagate(branches, sigmas, tr, x, interval, figs) -> dict[str, float]:
 
 def read_te(table: BenchTable, ratio: float | None = None, positions: int = TE_POSITIONS) -> BenchTransmissionError:
     """The TE curve of one measured unit over an output revolution (module docstring)."""
-    where = table.path
-    out_arcmin = table.columns["angle"]
-    if "te" in table.columns:
-        te = table.columns["te"]
-    else:
-        if ratio is None or not (isinstance(ratio, (int, float)) and math.isfinite(ratio) and ratio != 0):
-            raise InputError("ratio", ratio, f"{where} gives input and output angles: allowed: the reduction ratio "
-                                             f"(input turns per output turn, non-zero)")
-        te = (out_arcmin - table.columns["input_angle"] / ratio) * 60.0
+    out_arcmin, te = _run_te(table, ratio, "")
     deg = out_arcmin / 60.0
+    return _te_reading(table.path, f"{table.path}: column '{table.headers['angle']}'", deg, te, positions,
+                       float(deg[0]), list(table.notes))[0]
+
+
+def _run_te(table: BenchTable, ratio: float | None, run: str) -> tuple[np.ndarray, np.ndarray]:
+    """(output angle [arcmin], TE [arcsec]) of one run (``run`` "" forward, "_bw" backward)."""
+    out_arcmin = table.columns["angle" + run]
+    if "te" + run in table.columns:
+        return out_arcmin, table.columns["te" + run]
+    if ratio is None or not (isinstance(ratio, (int, float)) and math.isfinite(ratio) and ratio != 0):
+        raise InputError("ratio", ratio, f"{table.path} gives input and output angles: allowed: the reduction ratio "
+                                         f"(input turns per output turn, non-zero)")
+    te = (out_arcmin - table.columns["input_angle" + run] / ratio) * 60.0
+    if not np.all(np.isfinite(te)):
+        raise InputError("ratio", ratio, f"{table.path}: the TE from these angles overflows; allowed: the reduction "
+                                         f"ratio (input turns per output turn)")
+    return out_arcmin, te
+
+
+def _te_reading(where: str, col: str, deg: np.ndarray, te: np.ndarray, positions: int, origin_deg: float,
+                notes: list[str], label: str = "") -> tuple[BenchTransmissionError, np.ndarray]:
+    """One run's reading on ``positions`` equal steps of the revolution from ``origin_deg``, and
+    its bins' means before centring [arcsec] (the runs' gap is read from them)."""
     revolutions = float((deg.max() - deg.min()) / 360.0)
-    pos = np.mod(deg - deg[0], 360.0)  # from the first sample
+    pos = np.mod(deg - origin_deg, 360.0)
     bins = np.floor(pos / 360.0 * positions).astype(int) % positions
     counts = np.bincount(bins, minlength=positions)
-    col = f"{where}: column '{table.headers['angle']}'"
     widest = _widest_empty(counts > 0)
     if widest * 360.0 / positions > 5.0 or revolutions < 1.0 - 5.0 / 360.0:
-        raise InputError(col, allowed=f"the samples span {revolutions * 360:.1f} deg with a gap of "
+        raise InputError(col, allowed=f"{label}the samples span {revolutions * 360:.1f} deg with a gap of "
                                       f"{widest * 360.0 / positions:.1f} deg; allowed: a full output revolution "
                                       f"without gaps wider than 5 deg")
     sums = np.bincount(bins, weights=te, minlength=positions)
@@ -430,14 +497,47 @@ def read_te(table: BenchTable, ratio: float | None = None, positions: int = TE_P
     spec = amplitude_spectrum(curve) / np.sinc(np.arange(positions // 2 + 1) / positions)
     floor = max(SPECTRUM_FLOOR_ARCSEC, 5.0 * float(np.median(spec[1:])))
     lead = [int(k) for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1 if spec[k] > floor]
-    notes = list(table.notes)
     if revolutions > 1.05:
         notes.append(f"{revolutions:.2f} revolutions averaged by output position")
-    start = float(np.mod(deg[0], 360.0))
+    if te.size < 2 * np.count_nonzero(have):
+        notes.append(f"{te.size / np.count_nonzero(have):.1f} samples per position of {positions}: the noise about "
+                     f"the averaged curve is not resolved (noise_arcsec is a lower bound)")
+    start = float(np.mod(origin_deg, 360.0))
     return BenchTransmissionError(where, "transmission_error", int(te.size), revolutions, positions,
                                   float(np.ptp(curve)), float(curve.min()), float(curve.max()), noise, floor,
                                   tuple(SpectralLine(k, float(spec[k])) for k in lead), tuple(notes), (),
-                                  np.mod(grid + start, 360.0), curve, spec)
+                                  np.mod(grid + start, 360.0), curve, spec), mean
+
+
+def read_te_two_runs(table: BenchTable, ratio: float | None = None, positions: int = TE_POSITIONS) -> BenchTwoRunTE:
+    """One unit's forward and backward runs (module docstring): each run's TE curve, orders and
+    peak-to-peak on the same output positions (from the forward run's first sample), and the lost
+    motion at each position, the gap between the runs by ``models.kinematics.lost_motion_arcmin``
+    with the upper run as the ccw flank (a rig whose TE is output minus input / ratio and whose
+    output lags in the forward run has the backward run above; ``ccw_run`` says which it was)."""
+    where = table.path
+    (fwd_arcmin, fwd_te), (bwd_arcmin, bwd_te) = _run_te(table, ratio, ""), _run_te(table, ratio, "_bw")
+    origin = float(fwd_arcmin[0] / 60.0)
+    readings = []
+    for name, run, (arcmin, te) in (("forward", "", (fwd_arcmin, fwd_te)), ("backward", "_bw", (bwd_arcmin, bwd_te))):
+        col = f"{where}: column '{table.headers['angle' + run]}'"
+        u, mean = _te_reading(f"{where} ({name})", col, arcmin / 60.0, te, positions, origin, [], f"{name} run: ")
+        readings.append((u, mean))
+    (fwd, fwd_mean), (bwd, bwd_mean) = readings
+    gap = lost_motion_arcmin(bwd_mean / ARCSEC_PER_RAD, fwd_mean / ARCSEC_PER_RAD)
+    ccw = "backward"
+    notes = list(table.notes) + [f"{name} run: {n}" for name, u in (("forward", fwd), ("backward", bwd))
+                                 for n in u.notes]
+    if gap.mean() < 0:
+        gap, ccw = -gap, "forward"
+        notes.append("the forward run's TE lies above the backward's: read as the ccw flank (the file's TE or "
+                     "position sign is the other way round)")
+    if gap.min() < 0:
+        notes.append(f"the runs cross at {int(np.count_nonzero(gap < 0))} of {positions} positions (a gap below "
+                     f"0: noise, or runs measured from different zeros)")
+    return BenchTwoRunTE(where, "transmission_error_two_runs", fwd, bwd, fwd.te_peak_to_peak_arcsec,
+                         bwd.te_peak_to_peak_arcsec, ccw, float(gap.mean()), float(gap.min()), float(gap.max()),
+                         tuple(notes), (), table.metadata, fwd.output_angle_deg, gap)
 
 
 def _widest_empty(filled: np.ndarray) -> int:
@@ -458,13 +558,20 @@ def _widest_empty(filled: np.ndarray) -> int:
 # --- files, a batch, the design's production run ----------------------------------------------------
 
 def read_bench_file(path: str | Path, *, rated_torque_nm: float | None = None, measuring_fraction: float = 0.03,
-                    interval: Sequence[float] = (0.5, 1.0), units: Mapping[str, str | None] | None = None,
-                    ratio: float | None = None, rated_from: str = "given") -> BenchLoop | BenchTransmissionError:
-    """One bench file: a hysteresis loop (a torque column) or a TE curve."""
+                    interval: Sequence[float] = (0.5, 1.0), units: Mapping[str, str | None] | FileFormat | None = None,
+                    ratio: float | None = None,
+                    rated_from: str = "given") -> BenchLoop | BenchTransmissionError | BenchTwoRunTE:
+    """One bench file: a hysteresis loop (a torque column), a TE curve, or a unit's two TE runs.
+    ``units``: the unit flags, or a FileFormat (design.bench_files.file_format: a column map, units,
+    decimal mark, separator, sheet)."""
     table = read_bench_table(path, units)
     if table.kind == "hysteresis":
-        return read_loop(table, rated_torque_nm, measuring_fraction, interval, rated_from)
-    return read_te(table, ratio)
+        u = read_loop(table, rated_torque_nm, measuring_fraction, interval, rated_from)
+    elif table.two_runs:
+        return read_te_two_runs(table, ratio)
+    else:
+        u = read_te(table, ratio)
+    return dataclasses.replace(u, metadata=table.metadata) if table.metadata else u
 
 
 def check_rated_torque(value) -> float | None:
@@ -476,14 +583,16 @@ def check_rated_torque(value) -> float | None:
 
 
 def read_bench(paths: Sequence[str | Path], problem=None, *, rated_torque_nm: float | None = None,
-               units: Mapping[str, str | None] | None = None, ratio: float | None = None, samples: int = 2000,
-               seed: int = 0, sobol_samples: int = 256) -> BenchResult:
+               units: Mapping[str, str | None] | FileFormat | None = None, ratio: float | None = None,
+               samples: int = 2000, seed: int = 0, sobol_samples: int = 256) -> BenchResult:
     """Every file of a batch (one unit each); with ``problem`` (a design with [elastic]) each
-    figure placed in the design's predicted production run of ``samples`` units (``place``)."""
+    figure placed in the design's predicted production run of ``samples`` units (``place``).
+    ``units``: the unit flags, or a FileFormat (a column map, units, decimal mark, ...)."""
     if isinstance(paths, (str, Path)):
         paths = [paths]
     if not paths:
         raise InputError("files", [], "allowed: one or more bench files")
+    seed = check_seed(seed)
     rated_torque_nm = check_rated_torque(rated_torque_nm)
     x, interval, rated_from = 0.03, (0.5, 1.0), "given"
     if problem is not None and problem.design.elastic is not None:
@@ -496,11 +605,18 @@ def read_bench(paths: Sequence[str | Path], problem=None, *, rated_torque_nm: fl
     units_read = [read_bench_file(p, rated_torque_nm=rated_torque_nm, measuring_fraction=x, interval=interval,
                                   units=units, ratio=ratio, rated_from=rated_from) for p in paths]
     predicted: dict[str, np.ndarray] = {}
+    warnings: tuple[str, ...] = ()
     if problem is not None:
         units_read, predicted = place(problem, units_read, samples=samples, seed=seed, sobol_samples=sobol_samples)
+        if "lost_motion_arcmin" in predicted:
+            from rvbacklash.models.elastic import elastic_model
+            from rvbacklash.models.elastic.chain import stick_band_warning
+
+            w = stick_band_warning(elastic_model(problem).chain)
+            warnings = (f"the design's predicted lost motion: {w}",) if w else ()
     spread = {}
     for kind_figs in (("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin"),
-                      ("te_peak_to_peak_arcsec",)):
+                      ("te_peak_to_peak_arcsec", "te_peak_to_peak_backward_arcsec", "lost_motion_mean_arcmin")):
         for f in kind_figs:
             vals = [u.figures()[f] for u in units_read if f in u.figures()]
             if len(vals) >= 2:
@@ -509,7 +625,7 @@ def read_bench(paths: Sequence[str | Path], problem=None, *, rated_torque_nm: fl
                              "measured_sigma": float(np.std(vals, ddof=1)),
                              "predicted_sigma": float(np.std(p)) if p is not None else None}
     return BenchResult(problem.name if problem is not None else None, samples if problem is not None else 0, seed,
-                       tuple(units_read), spread)
+                       tuple(units_read), spread, warnings)
 
 
 ELASTIC_OUTPUTS = {"lost_motion_arcmin": (0, "lost_motion"), "backlash_arcmin": (1, "backlash"),
@@ -528,13 +644,26 @@ def predicted_elastic(problem, samples: int, seed: int) -> dict[str, np.ndarray]
 
 
 def predicted_te(problem, samples: int, seed: int) -> dict[str, np.ndarray]:
-    """TE peak-to-peak of ``samples`` units of the transmission model's production run (exact curves)."""
+    """TE peak-to-peak (the ccw flank's, and the cw flank's as ``..._other_flank``) and the mean of
+    the lost motion over the revolution of ``samples`` units of the transmission model's production
+    run (exact curves)."""
     from rvbacklash.analysis.transmission import transmission_error
     from rvbacklash.sampling.te_source import sample_units
 
     units = sample_units(problem, int(seed), int(samples))
-    return {"te_peak_to_peak_arcsec": np.array([transmission_error(problem, u, "", 1024, shares=False)
-                                                .te_peak_to_peak_arcsec for u in units])}
+    curves = [transmission_error(problem, u, "", 1024, shares=False) for u in units]
+    return {"te_peak_to_peak_arcsec": np.array([c.te_peak_to_peak_arcsec for c in curves]),
+            "te_peak_to_peak_other_flank_arcsec": np.array([c.te_peak_to_peak_other_flank_arcsec for c in curves]),
+            "lost_motion_mean_arcmin": np.array([float(np.mean(c.lost_motion_arcmin)) for c in curves])}
+
+
+def _predicted_key(u, figure: str) -> str:
+    """The predicted figure a measured one is placed among: a unit's two runs by flank (the run
+    read as ccw against the ccw flank's TE, the other against the cw flank's)."""
+    if isinstance(u, BenchTwoRunTE) and figure.startswith("te_peak_to_peak"):
+        run = "backward" if figure.endswith("_backward_arcsec") else "forward"
+        return "te_peak_to_peak_arcsec" if run == u.ccw_run else "te_peak_to_peak_other_flank_arcsec"
+    return figure
 
 
 def _explaining(problem, model: str, output: str, samples: int, seed: int) -> tuple[str, ...]:
@@ -553,7 +682,7 @@ def place(problem, units: Sequence, *, samples: int = 2000, seed: int = 0, sobol
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 100 <= samples <= 10**6:
         raise InputError("samples", samples, "allowed: 100 to 1e6 predicted units")
     loops = any(isinstance(u, BenchLoop) for u in units)
-    tes = any(isinstance(u, BenchTransmissionError) for u in units)
+    tes = any(isinstance(u, (BenchTransmissionError, BenchTwoRunTE)) for u in units)
     predicted: dict[str, np.ndarray] = {}
     if loops:
         if problem.design.elastic is None:
@@ -562,12 +691,12 @@ def place(problem, units: Sequence, *, samples: int = 2000, seed: int = 0, sobol
         predicted.update(predicted_elastic(problem, samples, seed))
     if tes:
         predicted.update(predicted_te(problem, min(samples, 200), seed))
-    sobol_cache: dict[str, tuple[str, ...]] = {}
+    sobol_cache: dict[tuple[str, str], tuple[str, ...]] = {}
     out = []
     for u in units:
         rows = []
         for fig, value in u.figures().items():
-            p = predicted.get(fig)
+            p = predicted.get(_predicted_key(u, fig))
             if p is None or not math.isfinite(value):
                 continue
             pct = 100.0 * (np.count_nonzero(p < value) + 0.5 * np.count_nonzero(p == value)) / p.size
@@ -575,11 +704,12 @@ def place(problem, units: Sequence, *, samples: int = 2000, seed: int = 0, sobol
             outside = not 0.135 <= pct <= 99.865
             factors: tuple[str, ...] = ()
             if outside:
-                if fig not in sobol_cache:
-                    model, output = (("elastic", ELASTIC_OUTPUTS[fig][1]) if fig in ELASTIC_OUTPUTS
-                                     else ("transmission", "transmission_error"))
-                    sobol_cache[fig] = _explaining(problem, model, output, sobol_samples, seed)
-                factors = sobol_cache[fig]
+                model, output = (("elastic", ELASTIC_OUTPUTS[fig][1]) if fig in ELASTIC_OUTPUTS
+                                 else ("transmission", "lost_motion_max") if fig == "lost_motion_mean_arcmin"
+                                 else ("transmission", "transmission_error"))
+                if (model, output) not in sobol_cache:  # one Sobol run per model output (both runs' TE share it)
+                    sobol_cache[model, output] = _explaining(problem, model, output, sobol_samples, seed)
+                factors = sobol_cache[model, output]
             beyond = bool(value < p.min() or value > p.max())
             rows.append(Placement(fig, float(value), float(pct), outside, *(float(v) for v in q), factors, beyond))
         out.append(_with_placement(u, tuple(rows)))
@@ -587,6 +717,4 @@ def place(problem, units: Sequence, *, samples: int = 2000, seed: int = 0, sobol
 
 
 def _with_placement(u, rows):
-    import dataclasses
-
     return dataclasses.replace(u, placement=rows)

@@ -78,3 +78,57 @@ def write_te_csv(path: str | Path, angle_deg: np.ndarray, te_arcsec: np.ndarray)
     path.write_text("output angle [deg]\tte [arcsec]\n" + "".join(f"{a:.6f}\t{t:.6f}\n"
                                                                   for a, t in zip(angle_deg, te_arcsec)))
     return path
+
+
+# the public RV test rig's header of a TE file of two runs, as that rig writes it (its typo kept);
+# positions and TE in degrees
+RIG_TWO_RUN_HEADER = ("Poisition_Output_Reducer_Fw", "Transmission_Error_Fw", "Position_Output_Reducer_Bw",
+                      "Transmission_Error_Bw")
+
+
+def two_run_te(orders: Mapping[int, float], lost_motion_arcmin: float, *,
+               lost_motion_orders: Mapping[int, float] | None = None, samples: int = 2000, revolutions: float = 1.0,
+               noise_arcsec: float = 0.0, seed: int = 0, start_deg: float = 0.0
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(forward angle [deg], forward TE [arcsec], backward angle [deg], backward TE [arcsec]) of a
+    unit whose flanks' common curve is sum_m A_m cos(m theta + phase_m) and whose lost motion at
+    theta is ``lost_motion_arcmin`` + sum_k B_k cos(k theta) [arcmin] (``lost_motion_orders``): the
+    forward run half of it below the common curve, the backward run half above (TE = output -
+    input / ratio, the output lagging in each run). The backward run turns back from where the
+    forward run ended (its angles fall)."""
+    rng = np.random.default_rng(seed)
+    fwd = start_deg + np.linspace(0.0, 360.0 * revolutions, samples, endpoint=False)
+    bwd = fwd[-1] - (fwd - fwd[0])
+    phases = {m: rng.uniform(0, 2 * np.pi) for m in orders}
+
+    def common(theta):
+        return sum((a * np.cos(m * np.radians(theta) + phases[m]) for m, a in orders.items()), np.zeros_like(theta))
+
+    def gap_arcsec(theta):
+        ripple = (b * np.cos(k * np.radians(theta)) for k, b in (lost_motion_orders or {}).items())
+        lm = lost_motion_arcmin + sum(ripple, np.zeros_like(theta))
+        return 60.0 * lm
+
+    def noise():
+        return rng.normal(0.0, noise_arcsec, samples) if noise_arcsec > 0 else 0.0
+
+    return fwd, common(fwd) - 0.5 * gap_arcsec(fwd) + noise(), bwd, common(bwd) + 0.5 * gap_arcsec(bwd) + noise()
+
+
+def write_rig_te_csv(path: str | Path, fwd_deg: np.ndarray, fwd_te_arcsec: np.ndarray, bwd_deg: np.ndarray,
+                     bwd_te_arcsec: np.ndarray, *, header: tuple[str, ...] = RIG_TWO_RUN_HEADER, delimiter: str = ",",
+                     decimal: str = ".", metadata: tuple[str, ...] = ()) -> Path:
+    """A TE file of two runs as the public RV rig writes it: forward angle, forward TE, backward
+    angle, backward TE, all in degrees, no units in the header; ``metadata`` lines above it; runs
+    of different lengths leave the shorter's cells blank."""
+    n = max(fwd_deg.size, bwd_deg.size)
+
+    def cell(x: np.ndarray, i: int) -> str:
+        return "" if i >= x.size else f"{x[i]:.10g}".replace(".", decimal)
+
+    cols = (fwd_deg, fwd_te_arcsec / 3600.0, bwd_deg, bwd_te_arcsec / 3600.0)
+    lines = [*metadata, delimiter.join(header)]
+    lines += [delimiter.join(cell(c, i) for c in cols) for i in range(n)]
+    path = Path(path)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path

@@ -95,6 +95,7 @@ class CalibrationResult(Result):
     bench: BenchResult = field(metadata={EXPORT: False})
     before_loop: object = field(default=None, metadata={EXPORT: False})  # HysteresisResult
     after_loop: object = field(default=None, metadata={EXPORT: False})
+    warnings: tuple[str, ...] = ()  # of the before/after figures, e.g. a lost motion read in a stick band
 
     def parameter(self, name: str) -> FittedParameter:
         return next(p for p in self.parameters if p.name == name)
@@ -345,7 +346,8 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
         datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat(),
         {k: getattr(before, k) for k in figs}, {k: getattr(after, k) for k in figs},
         {k: float(np.mean([getattr(u, k) for u in loops])) for k in figs}, spread, calibrated, bench,
-        before, after)
+        before, after, tuple([f"before (the design as given): {w}" for w in before.warnings]
+                             + [f"after (the calibrated design): {w}" for w in after.warnings]))
 
 
 def calibrated_design(design: Design, structure_stiffness_nm_per_arcmin: float, friction_torque_nm: float,
@@ -381,4 +383,5 @@ def calibration_header(result: CalibrationResult) -> str:
                      f"-> {where}")
     lines.append(f"Residual {result.residual_rms_arcmin:.4f} arcmin rms over {result.samples_fitted} samples; "
                  f"everything else as in the design {result.design_name!r}.")
+    lines += [f"WARNING, {w}" for w in result.warnings if w.startswith("after")]  # of this design's figures
     return "\n".join(lines)

@@ -31,6 +31,7 @@ from rvbacklash.models import compliance as cm
 from rvbacklash.models.elastic import (BACKLASH, ELEMENT_LOST_MOTION, ELEMENTS, FALL, LOST_MOTION, RIGIDITY, RISE,
                                        SHARES, ElasticModel, ElasticUnit, PreparedUnit, elastic_model, nominal_unit,
                                        other_stages_nominal, unit_from_realization)
+from rvbacklash.models.elastic.chain import lost_motion_in_stick_band, stick_band_warning
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -51,8 +52,8 @@ ASSUMPTIONS_STRUCTURE = (
 CARRIER_FE = ("the carrier (output flange, pillars, end plate) as one 3-D finite-element body held at the flange's "
               "outer face")
 CARRIER_BEAMS = "carrier pillars (clamped beams in rigid plates)"
-DISCS_FE = ("the disc bodies by plane-stress finite elements (designed unit's pin forces at the top of the rigidity "
-            "interval, bores on the needle bearings' secant stiffness)")
+DISCS_FE = ("the disc bodies by plane-stress finite elements (loaded by the nominal unit's change of pin forces over "
+            "the rigidity interval, bores on the needle bearings' secant stiffness)")
 DISCS_RIGID = "the disc bodies rigid"
 
 
@@ -139,6 +140,9 @@ class HysteresisResult(Result):
     assumptions: str
     loop: tuple[HysteresisBranch, ...]
     pin_forces_at_rated_n: np.ndarray = field(metadata={EXPORT: False})  # (discs, z_p), for figures
+    # friction >= x T_R: the lost motion is the stick band's width, not the play (chain.lost_motion_in_stick_band)
+    lost_motion_in_stick_band: bool = False
+    warnings: tuple[str, ...] = ()  # what the figures above need said beside them
 
     def branch(self, name: str) -> HysteresisBranch:
         return next(b for b in self.loop if b.branch == name)
@@ -147,7 +151,8 @@ class HysteresisResult(Result):
         return [r for b in self.loop for r in b.rows()]
 
     def summary(self) -> list[str]:
-        return [f"{self.design_name} ({self.unit}): lost motion {self.lost_motion_arcmin:.4f} arcmin at "
+        return [f"{self.design_name} ({self.unit}): lost motion {self.lost_motion_arcmin:.4f} arcmin"
+                + (" (stick band)" if self.lost_motion_in_stick_band else "") + " at "
                 f"±{self.measuring_torque_fraction * 100:g} % of {self.rated_torque_nm:g} N m, backlash "
                 f"{self.backlash_arcmin:.4f} arcmin, rigidity {self.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin",
                 "rigidity secants: " + ", ".join(f"{x.from_fraction * 100:g}-{x.to_fraction * 100:g} % T_R "
@@ -252,7 +257,8 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         involute_backlash_arcmin=float(max(unit.involute_backlash_rad, 0.0) * ARCMIN_PER_RAD),
         crank_angle_deg=float(math.degrees(unit.chi_rad)),
         assumptions=ASSUMPTIONS + structure_assumptions(model) + profile_assumptions(model), loop=loop,
-        pin_forces_at_rated_n=forces)
+        pin_forces_at_rated_n=forces, lost_motion_in_stick_band=lost_motion_in_stick_band(c),
+        warnings=tuple(w for w in (stick_band_warning(c),) if w))
 
 
 def measured_unit(problem: Problem, path: str | Path, unit: int | None = None) -> tuple[ElasticUnit, str]:

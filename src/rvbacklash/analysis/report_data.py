@@ -32,6 +32,7 @@ class ReportData(Result):
     elastic: object | None = None  # analysis.hysteresis.ElasticSection
     sweep: object | None = None  # the sweep section (analysis.sweep), when the report shows one
     transmission: object | None = None  # analysis.transmission.TransmissionSection
+    capacity: object | None = None  # analysis.capacity.CapacityResult (issue 37)
 
     @property
     def partial(self) -> bool:
@@ -116,7 +117,7 @@ class ReportData(Result):
                 "analysis": self.stackup.to_dict(), "simulation": self.simulation.to_dict(),
                 "comparison": d(self.comparison), "contact_nominal": d(self.contact),
                 "sensitivity": d(self.sensitivity), "allocation": d(self.allocation), "elastic": d(self.elastic),
-                "sweep": d(self.sweep), "transmission": d(self.transmission)}
+                "sweep": d(self.sweep), "transmission": d(self.transmission), "capacity": d(self.capacity)}
 
     def rows(self) -> list[dict]:
         """The key numbers, each row marked ``partial`` when the report was interrupted."""
@@ -175,14 +176,18 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
         w.append(f"crank circle radius a0 not given: the first-stage centre distance {g.crank_circle_radius_mm:g} mm is used.")
     if sim.partial:
         w.append(f"interrupted: the simulation covers {sim.samples_done:,} of {sim.samples:,} samples.")
+    w += [f"{sim.model} model: {x}" for x in sim.warnings]  # e.g. lost motion read in friction's stick band
     return tuple(w)
 
 
 def build_report_data(problem: Problem, stackup: StackupResult, simulation: SimulationResult,
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
-                      sweep=None, transmission=None) -> ReportData:
-    return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact,
-                      validity_warnings(problem, stackup, simulation),
+                      sweep=None, transmission=None, capacity=None) -> ReportData:
+    warnings = validity_warnings(problem, stackup, simulation)
+    if elastic is not None:  # the elastic section's nominal unit (also beside another model's run)
+        warnings += tuple(f"elastic section: {w}" for w in elastic.nominal.warnings
+                          if not any(w in x for x in warnings))
+    return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact, warnings,
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
-                      elastic, sweep, transmission)
+                      elastic, sweep, transmission, capacity)

@@ -103,7 +103,8 @@ class ScenarioResult(Result):
         y = r.yield_
         return {"name": self.name, "factors_changed": self.factors_changed, "mean_arcmin": r.mean_arcmin,
                 "sigma_arcmin": r.sigma_arcmin, "q99865_arcmin": q.value, "q99865_ci95_low_arcmin": q.ci95_low,
-                "q99865_ci95_high_arcmin": q.ci95_high, "yield": y.fraction if y else None,
+                "q99865_ci95_high_arcmin": q.ci95_high, "q99865_bounded": q.bounded,
+                "yield": y.fraction if y else None,
                 "yield_ci95_low": y.ci95_low if y else None, "yield_ci95_high": y.ci95_high if y else None,
                 "overrides": ";".join(f"{k}={v}" for k, v in self.overrides.items()),
                 "samples_done": r.samples_done, "partial": r.partial}

@@ -33,6 +33,7 @@ depends on its own streams only.
 
 from __future__ import annotations
 
+import contextvars
 import math
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -114,6 +115,9 @@ class LinearStreams:
             else:  # no effect on the output, but its stream is drawn all the same
                 draw_marginal(p, int(i), generators[i], n)
         return y[None, :]
+
+
+LIFE_OUTPUTS = ("life", "weakest_bearing_life", "rated_torque", "max_pin_stress")  # = analysis.simulation's
 
 
 def _contact(problem: Problem) -> StreamModel:
@@ -302,7 +306,8 @@ class ThreadExecutor:
                         item = next(todo, None)
                         if item is None:
                             break
-                        running[pool.submit(fn, item[1])] = item[0]
+                        # a copy of this context each: a stop of the caller's window reaches the task's loops
+                        running[pool.submit(contextvars.copy_context().run, fn, item[1])] = item[0]
                     if not running:
                         return
                     done, _ = wait(running, timeout=0.2, return_when=FIRST_COMPLETED)
@@ -348,7 +353,14 @@ def global_sensitivity(problem: Problem, *, model: str | StreamModel = "linear",
         raise InputError("design", problem.name, f"has correlated factors ({listed}): Sobol indices assume "
                                                  f"independent inputs; allowed: a design without [correlation] "
                                                  f"(analyze's variance shares cover covariances)")
-    sm = stream_model(problem, model) if isinstance(model, str) else model
+    if model == "elastic" and output in LIFE_OUTPUTS:  # the life outputs (issue 37): the elastic model with its tables
+        from rvbacklash.analysis.capacity.production import life_tables
+        from rvbacklash.models.elastic import elastic_model
+        from rvbacklash.sampling.elastic_source import elastic_streams
+
+        sm = elastic_streams(problem, life_tables(problem, elastic_model(problem)))
+    else:
+        sm = stream_model(problem, model) if isinstance(model, str) else model
     model_name = model if isinstance(model, str) else getattr(model, "name", type(model).__name__)
     names = [o.name for o in sm.outputs]
     out_name = names[0] if output is None else output
@@ -413,6 +425,9 @@ def global_sensitivity(problem: Problem, *, model: str | StreamModel = "linear",
     notes = []
     if partial:
         notes.append(f"interrupted: {keep} of {n_units} units per set used (the largest power of two finished)")
+    said = getattr(getattr(sm, "source", None), "output_warnings", None) or {}  # e.g. lost motion in a stick band
+    if out_name in said:
+        notes.append(f"{out_name}: {said[out_name]}")
     return SensitivityResult(problem.name, model_name, out_name, sm.outputs[out_index].unit, keep,
                              keep * (len(groups) + 2), int(seed), tuple(int(x) for x in stream), int(resamples),
                              CONFIDENCE, float(both.mean()), float(both.std()), tuple(rows),

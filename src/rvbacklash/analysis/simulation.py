@@ -66,6 +66,22 @@ def _transmission(problem: Problem, method: str, seed: int, stream: tuple[int, .
     return transmission_source(problem, method, seed, stream, save_units=save_units)
 
 
+def _elastic_life(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
+                  save_units: int = 0) -> BlockSource:
+    """The elastic model with the life outputs (issue 37; docs/capacity.md, "Production run")."""
+    from rvbacklash.analysis.capacity.production import life_tables
+    from rvbacklash.models.elastic import elastic_model
+    from rvbacklash.sampling.elastic_source import elastic_source
+
+    if method != "default":
+        raise InputError("method", method, "allowed with model 'elastic': default")
+    return elastic_source(problem, method, seed, stream, save_units=save_units,
+                          life=life_tables(problem, elastic_model(problem)))
+
+
+LIFE_OUTPUTS = ("life", "weakest_bearing_life", "rated_torque", "max_pin_stress")  # the elastic model's, when asked
+
+
 # name -> factory(problem, method, seed, stream, save_units=0) of the model's block source
 MODELS: dict[str, Callable[..., BlockSource]] = {"linear": _linear, "contact": _contact, "elastic": _elastic,
                                                  "transmission": _transmission}
@@ -95,6 +111,7 @@ class ConvergencePoint(Result):
     yield_fraction: float | None
     yield_ci95_low: float | None
     yield_ci95_high: float | None
+    q99865_bounded: bool = True  # False: too few samples to bound the quantile's interval (an end None)
 
 
 @dataclass(frozen=True, repr=False)
@@ -136,6 +153,7 @@ class SimulationResult(Result):
     # the first units of the run with their errors (save_units): (Realization, linear stages
     # [arcmin], cycloid stage [arcmin] or -preload [um]); not part of to_dict()
     units: tuple = field(default=(), metadata={EXPORT: False})
+    warnings: tuple[str, ...] = ()  # what the figures need said beside them (each output's ``warning``)
 
     @property
     def output(self) -> OutputStatistics:
@@ -181,7 +199,7 @@ class SimulationResult(Result):
         lines = [head] + [line for o in self.outputs.values() for line in o.summary()]
         if self.preload_fraction is not None:
             lines.append(f"cycloid stage preloaded in {self.preload_fraction:.2%} of the units")
-        return lines
+        return lines + [f"warning: {w}" for w in self.warnings]
 
 
 # --- parameters ------------------------------------------------------------------------------
@@ -230,7 +248,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
              spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
              quantiles: tuple[float, ...] = (), workers: int | None = None, chunk_blocks: int = 4,
              model: str | Callable = "linear", progress: Callable[[int], None] | None = None,
-             stream: tuple[int, ...] = (), error_model: str | None = None, save_units: int = 0) -> SimulationResult:
+             stream: tuple[int, ...] = (), error_model: str | None = None, save_units: int = 0,
+             life: bool = False) -> SimulationResult:
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
@@ -245,7 +264,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     the same seed: block b draws from ``SeedSequence(seed, spawn_key=(*stream, b))``. Ctrl-C
     returns the finished blocks with ``partial=True``. ``error_model`` ("long_wave" |
     "independent") overrides the design's ``[contact]`` reading of the per-element errors;
-    ``save_units`` keeps the first units with their errors (``result.units``).
+    ``save_units`` keeps the first units with their errors (``result.units``). ``life`` (elastic
+    model; implied by a spec on a life output): each unit's life, weakest bearing's life, derived
+    rated torque and largest pin stress beside its precision figures (docs/capacity.md).
     """
     from rvbacklash.sampling.engine import BLOCK_SIZE
 
@@ -271,8 +292,12 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
         if model != "linear":
             raise InputError("method", "exact", "allowed with model linear only (the exact distribution of Eq. (2))")
         return exact_result(problem, spec_arcmin=spec_arcmin, quantiles=qs)
+    wants_life = life or any(k in LIFE_OUTPUTS for k in (specs or {}))
+    if wants_life and model != "elastic":
+        raise InputError("life", True, "allowed with model 'elastic' only (the life outputs come from its load solution)")
     if isinstance(model, str):
-        source = MODELS[model](problem, method, int(seed), tuple(int(x) for x in stream), save_units=int(save_units))
+        factory = _elastic_life if wants_life else MODELS[model]
+        source = factory(problem, method, int(seed), tuple(int(x) for x in stream), save_units=int(save_units))
         model_name = model
     else:
         source = linear_source(method, int(seed), build_input_transform(problem), model, None, tuple(stream))
@@ -288,12 +313,14 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
         y = s.yield_
         return ConvergencePoint(o.moments.n, s.mean, s.mean_ci95_low, s.mean_ci95_high, q.value, q.ci95_low,
                                 q.ci95_high, y.fraction if y else None, y.ci95_low if y else None,
-                                y.ci95_high if y else None)
+                                y.ci95_high if y else None, q.bounded)
 
     with np.errstate(invalid="ignore", divide="ignore"):
         raw = run_blocks(source, int(samples), limits, workers or default_workers(), chunk_blocks, progress, snapshot)
         outputs = {o.output.name: st.output_statistics(o, qs, lim if math.isfinite(lim) else None, raw.samples)
                    for o, lim in zip(raw.outputs, limits)}
+    said = dict(getattr(source, "output_warnings", None) or {})  # e.g. a lost motion read in a stick band
+    outputs = {k: replace(o, warning=said[k]) if k in said else o for k, o in outputs.items()}
     n_specs = sum(math.isfinite(x) for x in limits)
     joint = Proportion.sampled(raw.n_joint_pass, raw.samples) if n_specs > 1 and raw.samples else None
     preloaded = outputs.get("preload")  # conditional: its samples are the preloaded units
@@ -309,7 +336,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
                             raw.samples, raw.partial,
                             raw.elapsed_s, outputs, joint, preload, linear_reference(problem),
                             tuple(raw.convergence), curve,
-                            tuple(source.saved_units()) if save_units else ())
+                            tuple(source.saved_units()) if save_units else (),
+                            tuple(dict.fromkeys(said.values())))
 
 
 def _limits(source: BlockSource, spec_arcmin: float | None, specs: Mapping[str, float] | None) -> tuple[float, ...]:

@@ -3,7 +3,12 @@
 - quantiles from the fixed-bin histogram (linear inside a bin; the bin width is ~1e-4
   standard deviations), with a distribution-free 95 % interval from order statistics: the
   ranks l, u with Binomial(N, p) probabilities 2.5 % / 97.5 % bracket the p-quantile
-  (Hahn & Meeker, Statistical Intervals, 1991, ch. 5);
+  (Hahn & Meeker, Statistical Intervals, 1991, ch. 5). Where a rank falls outside 1..N (N p or
+  N (1 - p) too small: an extreme quantile of a small run) no order statistic of the sample
+  bounds that side at 95 %: the end is left open ("beyond the sample", None) and the quantile
+  says from how many units on both ends are bounded (``samples_to_bound``), instead of the
+  sample's min or max posing as a bound (it covered the 99.865 % quantile ~23 % of the time at
+  N = 200);
 - yield P(value meets the spec) with the Wilson score interval (Wilson 1927; Brown, Cai &
   DasGupta, Stat. Sci. 16 (2001) 101);
 - Cp, Cpk against the spec as upper limit and 0 as lower limit (lost motion cannot be
@@ -27,17 +32,53 @@ Z95 = 1.959963984540054
 
 # --- typed pieces --------------------------------------------------------------------------
 
+BEYOND = "beyond the sample"
+
+
 @dataclass(frozen=True, repr=False)
 class Quantile(Result):
-    """The p-quantile of an output [its unit] and its 95 % interval (None outside the histogram)."""
+    """The p-quantile of an output [its unit] and its 95 % interval (None outside the histogram).
+    ``bounded`` False: the sample is too small for an order statistic to bound one side (or
+    both) at 95 %; that end is None (beyond the sample: the interval is open there) and
+    ``needs_samples`` is the run size from which both ends are bounded (None when bounded)."""
 
     probability: float
     value: float | None
     ci95_low: float | None
     ci95_high: float | None
+    bounded: bool = True
+    needs_samples: int | None = None
+
+    @property
+    def open_low(self) -> bool:
+        return not self.bounded and self.ci95_low is None
+
+    @property
+    def open_high(self) -> bool:
+        return not self.bounded and self.ci95_high is None
+
+    def note(self) -> str:
+        """Why an end of the interval is open ('' when bounded)."""
+        if self.bounded:
+            return ""
+        side = "both sides" if self.open_low and self.open_high else ("below" if self.open_low else "above")
+        needs = f": needs >= {self.needs_samples:,} units" if self.needs_samples else ""
+        return f"95 % interval {BEYOND} {side}{needs}"
+
+    def interval_text(self, fmt: str = ".4f", sep: str = ", ", brackets: str = "[]") -> str:
+        """The interval as text: '[1.2345, 1.4567]', or '[1.2345, beyond the sample] (needs >= 2,731
+        units)' where the sample cannot bound a side; '-' without a value."""
+        if self.value is None and self.ci95_low is None and self.ci95_high is None:
+            return "-"
+        lo = BEYOND if self.open_low else _text(self.ci95_low, fmt)
+        hi = BEYOND if self.open_high else _text(self.ci95_high, fmt)
+        text = f"{brackets[:1]}{lo}{sep}{hi}{brackets[1:]}"  # brackets "": none
+        if not self.bounded and self.needs_samples:
+            text += f" (needs >= {self.needs_samples:,} units)"
+        return text
 
     def summary(self) -> list[str]:
-        return [f"q({self.probability:g}) = {_num(self.value)} [{_num(self.ci95_low)}, {_num(self.ci95_high)}]"]
+        return [f"q({self.probability:g}) = {_num(self.value)} {self.interval_text('.4g')}"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -136,19 +177,22 @@ class OutputStatistics(Result):
     cpk: float | None
     negative_fraction: float | None  # share of values below 0
     histogram: HistogramData | None  # None: left out (output_statistics(coarse=False))
+    warning: str | None = None  # what the figures (and the yield) need said beside them, e.g. a lost
+    #                             motion read in friction's stick band (docs/elastic.md); None: nothing
 
     def rows(self) -> list[dict]:
-        def row(name, value, lo=None, hi=None, unit=self.unit):
+        def row(name, value, lo=None, hi=None, unit=self.unit, note=""):
             return {"output": self.quantity, "statistic": name, "value": value, "ci95_low": lo, "ci95_high": hi,
-                    "unit": unit}
+                    "unit": unit, "note": note}
 
         out = [row("samples", self.samples, unit=""), row("mean", self.mean, self.mean_ci95_low, self.mean_ci95_high),
                row("sigma", self.sigma), row("min", self.min), row("max", self.max)]
-        out += [row(f"quantile {q.probability:g}", q.value, q.ci95_low, q.ci95_high) for q in self.quantiles]
+        out += [row(f"quantile {q.probability:g}", q.value, q.ci95_low, q.ci95_high, note=q.note())
+                for q in self.quantiles]
         if self.yield_ is not None:
             side = "<=" if self.spec_is_upper else ">="
             out.append(row(f"yield ({side} {self.spec_limit:g})", self.yield_.fraction, self.yield_.ci95_low,
-                           self.yield_.ci95_high, unit=""))
+                           self.yield_.ci95_high, unit="", note=f"warning: {self.warning}" if self.warning else ""))
             out += [row("ppm out of spec", self.ppm_out, unit=""), row("Cp", self.cp, unit=""),
                     row("Cpk", self.cpk, unit="")]
         return out
@@ -159,11 +203,17 @@ class OutputStatistics(Result):
                 f"q{top.probability:g} {_num(top.value)}")
         if self.yield_ is not None:
             line += f", yield {self.yield_.fraction:.4%}"
+        if self.warning:
+            line += " [see warning]"
         return [line]
 
 
 def _num(x) -> str:
     return "-" if x is None else f"{x:.4g}"
+
+
+def _text(x, fmt: str) -> str:
+    return "-" if x is None else format(x, fmt)
 
 
 # --- formulas ------------------------------------------------------------------------------
@@ -194,22 +244,75 @@ def order_statistic(hist: Histogram, k: int, cumulative: tuple[int, np.ndarray] 
     return float(hist.lo + (j - 1 + frac) * width)
 
 
-def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95,
-                     cumulative: tuple[int, np.ndarray] | None = None) -> Quantile:
-    """The p-quantile of n samples summarised in ``hist``, with its order-statistic interval.
-    ``cumulative``: (first bin, cumulative counts from it), if at hand (order_statistic)."""
+def binomial_quantile(q: float, n: int, p: float) -> float:
+    """The q-quantile of the binomial distribution B(n, p): the smallest k with P(X <= k) >= q.
+    ``scipy.stats.binom.ppf(q, n, p)``, the same function: for 0 < q < 1 scipy.stats.binom calls
+    Boost's binomial quantile through ``scipy.special`` (``_binom_ppf``), called here directly
+    because importing scipy.stats costs a second of every command's start-up (scipy.special a
+    third of it). Elsewhere (q at 0 or 1, or a scipy without that function): scipy.stats itself.
+    tests/analysis checks the two agree."""
+    if 0.0 < q < 1.0 and 0.0 <= p <= 1.0 and n >= 1:
+        try:
+            from scipy.special._ufuncs import _binom_ppf
+        except ImportError:  # pragma: no cover - a scipy that keeps it elsewhere
+            pass
+        else:
+            return float(_binom_ppf(q, n, p))
     from scipy import stats
 
-    if n == 0:
-        return Quantile(p, None, None, None)
+    return float(stats.binom.ppf(q, n, p))
+
+
+def quantile_ranks(n: int, p: float, confidence: float = 0.95) -> tuple[int, int | None, int | None]:
+    """(k, l, u): the rank of the p-quantile's estimate among n samples, k = ceil(n p) in 1..n, and
+    the ranks of its distribution-free interval [X_(l), X_(u)]: l = F^-1(alpha/2), u = F^-1(1 -
+    alpha/2) + 1, F the Binomial(n, p) cdf, alpha = 1 - confidence. P(X_(l) <= xi_p < X_(u)) =
+    P(l <= B <= u - 1) >= confidence for any continuous distribution (Hahn & Meeker, Statistical
+    Intervals, 1991, sec. 5.2). An end whose rank falls outside 1..n is None: no order statistic of
+    the sample bounds the quantile on that side (l < 1 when (1 - p)^n >= alpha/2, u > n when
+    p^n > alpha/2)."""
     k = min(max(math.ceil(p * n), 1), n)
     alpha = 1.0 - confidence
-    lo_rank = int(stats.binom.ppf(alpha / 2, n, p))
-    hi_rank = int(stats.binom.ppf(1 - alpha / 2, n, p)) + 1
-    lo_rank, hi_rank = min(max(lo_rank, 1), n), min(max(hi_rank, 1), n)
+    lo = int(binomial_quantile(alpha / 2, n, p))
+    hi = int(binomial_quantile(1 - alpha / 2, n, p)) + 1
+    return k, (lo if lo >= 1 else None), (hi if hi <= n else None)
+
+
+def samples_to_bound(p: float, confidence: float = 0.95) -> int | None:
+    """The fewest samples n whose order statistics bound the p-quantile on both sides
+    (``quantile_ranks`` gives both ranks): n >= ln(alpha/2) / ln p for the upper end and
+    n > ln(alpha/2) / ln(1 - p) for the lower one, then checked against ``quantile_ranks`` itself.
+    E.g. 2731 for p = 0.99865 or 0.00135, 6 for the median (alpha = 0.05). None for p = 0 or 1
+    (the sample's min or max: no sample bounds the distribution's end)."""
+    if not 0.0 < p < 1.0:
+        return None
+    a = (1.0 - confidence) / 2
+
+    def bounded(m: int) -> bool:
+        _, lo, hi = quantile_ranks(m, p, confidence)
+        return lo is not None and hi is not None
+
+    n = max(1, math.ceil(math.log(a) / math.log(p)), math.floor(math.log(a) / math.log1p(-p)) + 1)
+    while not bounded(n):
+        n += 1
+    while n > 1 and bounded(n - 1):
+        n -= 1
+    return n
+
+
+def quantile_with_ci(hist: Histogram, n: int, p: float, confidence: float = 0.95,
+                     cumulative: tuple[int, np.ndarray] | None = None) -> Quantile:
+    """The p-quantile of n samples summarised in ``hist``, with its order-statistic interval
+    (``quantile_ranks``; an end the sample cannot bound is None, ``bounded`` False).
+    ``cumulative``: (first bin, cumulative counts from it), if at hand (order_statistic)."""
+    if n == 0:
+        return Quantile(p, None, None, None, False, samples_to_bound(p, confidence))
+    k, lo_rank, hi_rank = quantile_ranks(n, p, confidence)
     c = (0, np.cumsum(hist.counts)) if cumulative is None else cumulative  # once for the three ranks
-    return Quantile(p, order_statistic(hist, k, c), order_statistic(hist, lo_rank, c),
-                    order_statistic(hist, hi_rank, c))
+    bounded = lo_rank is not None and hi_rank is not None
+    return Quantile(p, order_statistic(hist, k, c), None if lo_rank is None else order_statistic(hist, lo_rank, c),
+                    None if hi_rank is None else order_statistic(hist, hi_rank, c), bounded,
+                    None if bounded else samples_to_bound(p, confidence))
 
 
 def wilson_interval(successes: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
@@ -255,7 +358,7 @@ def coarse_histogram(hist: Histogram, n: int, unit: str, bins: int = 200) -> His
 def _clamped(q: Quantile, lo: float, hi: float) -> Quantile:
     """A quantile read off the histogram (spread inside its bin) kept within the samples' range."""
     c = lambda v: None if v is None else min(max(v, lo), hi)  # noqa: E731
-    return Quantile(q.probability, c(q.value), c(q.ci95_low), c(q.ci95_high))
+    return Quantile(q.probability, c(q.value), c(q.ci95_low), c(q.ci95_high), q.bounded, q.needs_samples)
 
 
 def output_statistics(raw: RawOutput, quantiles=DEFAULT_QUANTILES, spec: float | None = None,

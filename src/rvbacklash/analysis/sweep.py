@@ -176,7 +176,8 @@ def result_figures(result) -> dict:
                     p + "mean_ci95_high": o.mean_ci95_high, p + "sigma": o.sigma, p + "min": o.min, p + "max": o.max})
         for q in o.quantiles:
             t = p + quantile_tag(q.probability)
-            row.update({t: q.value, t + "_ci95_low": q.ci95_low, t + "_ci95_high": q.ci95_high})
+            row.update({t: q.value, t + "_ci95_low": q.ci95_low, t + "_ci95_high": q.ci95_high,
+                        t + "_bounded": q.bounded})
         if o.spec_limit is not None:
             y = o.yield_
             row.update({p + "yield": y.fraction if y else None, p + "yield_ci95_low": y.ci95_low if y else None,
@@ -191,6 +192,8 @@ def result_figures(result) -> dict:
         row["preload_fraction"] = result.preload_fraction
     row["linear_mean_arcmin"] = result.linear_reference.mean_arcmin
     row["linear_sigma_arcmin"] = result.linear_reference.sigma_arcmin
+    if result.warnings:  # e.g. a lost motion read in friction's stick band at this point
+        row["warnings"] = "; ".join(result.warnings)
     return plain(row)
 
 
@@ -486,7 +489,7 @@ class SweepResult(Result):
 
     def figure_columns(self) -> list[str]:
         """The columns that are figures of the points (not the index or the parameters)."""
-        return [c for c in self.columns if c != "point" and c not in self.parameters]
+        return [c for c in self.columns if c not in ("point", "warnings") and c not in self.parameters]
 
     def default_figure(self) -> str:
         """What a picture shows unless told: the joint yield, else the primary output's yield,
@@ -639,7 +642,10 @@ def _run(plan: SweepPlan, store: SweepStore | None, scheduler, workers, progress
             with ctx as ex:
                 tasks = point_tasks(plan, todo, workers if ex.scheduler == "inline" else 1)
                 for k, outcome in ex.map_unordered(evaluate_point, tasks, stop=ev):
-                    if outcome.partial:  # Ctrl-C inside the point's own run (inline): not a finished point
+                    # Ctrl-C inside the point's own run (inline): it stops after its blocks under way.
+                    # If those were all of its samples the point is finished and kept like any other;
+                    # else its part-run is not a point (a resume runs it again, the same numbers).
+                    if outcome.partial:
                         ev.set()
                         continue
                     rows[todo[k]] = outcome.row
@@ -649,6 +655,9 @@ def _run(plan: SweepPlan, store: SweepStore | None, scheduler, workers, progress
                         progress(len(rows), len(plan))
                 interrupted = ev.is_set()
     partial = len(rows) < len(plan)
+    # "interrupted": the stop left points to run. A Ctrl-C during the last point that still
+    # finished it leaves a complete sweep, and the state must not say both (issue 36 item 14).
+    interrupted = interrupted and partial
     elapsed = time.perf_counter() - t0
     used_workers = workers if not isinstance(scheduler, Executor) else scheduler.workers
     if store is not None:

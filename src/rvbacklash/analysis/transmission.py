@@ -8,6 +8,11 @@ error-free unit's at the same theta), its peak-to-peak (the catalogue figure, Ya
 Eq. (38)) and amplitude spectrum by order of the output revolution, the rigid lost motion at
 every position [arcmin] (max, min, at the bench's reference position theta = 0), and the share
 of each error group (by switching the group off).
+
+Lost motion has one meaning across the project (``contact``, ``simulate --model transmission``):
+the output's, i.e. the cycloid stage's play at that position plus the involute and crank stages'
+linear part (``other_stages_arcmin``: the measured unit's when its file gives it, as a run's saved
+units do, else their linear means). The cycloid stage alone is ``cycloid_stage_*_arcmin``.
 """
 
 from __future__ import annotations
@@ -17,15 +22,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rvbacklash.analysis.contact import linear_stage_means
 from rvbacklash.errors import InputError
 from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          flank_extremes,
-                                          cached_table, perfect_unit, reference_revolution,
-                                          revolution)
+                                          cached_table, flank_extremes, lost_motion_arcmin, perfect_unit,
+                                          reference_revolution, revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
-from rvbacklash.units import ARCMIN_PER_RAD
 
 MAX_POSITIONS = 1 << 16
 LEADING_ORDERS = 8  # at most this many lines listed in the summary and the JSON
@@ -97,10 +101,16 @@ class TransmissionErrorResult(Result):
     te_min_arcsec: float  # (the sampled curve te_*_arcsec may stay inside these: kinematics.flank_extremes)
     te_max_arcsec: float
     te_peak_to_peak_other_flank_arcsec: float
+    # the output's rigid lost motion = cycloid stage + other_stages_arcmin (module docstring)
     lost_motion_max_arcmin: float
     lost_motion_min_arcmin: float
     lost_motion_reference_arcmin: float  # at the bench's reference position (theta = 0: the unit's crank angle)
-    preloaded_positions: int  # positions where no rotation frees every pin (lost motion 0 there)
+    cycloid_stage_max_arcmin: float  # the cycloid stage alone (its play; 0 where preloaded)
+    cycloid_stage_min_arcmin: float
+    cycloid_stage_reference_arcmin: float
+    other_stages_arcmin: float  # the involute and crank stages' linear part, the same at every position
+    other_stages_from: str  # "given" (the measured unit's other_stages_arcmin) | "linear means"
+    preloaded_positions: int  # positions where no rotation frees every pin (the cycloid stage's play 0 there)
     nominal_ripple_arcsec: float  # peak-to-peak of the error-free unit's own flank curve (the modifications')
     leading_orders: tuple[SpectralLine, ...]  # the largest lines above SPECTRUM_FLOOR_ARCSEC (none: no spectrum)
     group_shares: tuple[GroupShare, ...]
@@ -109,7 +119,7 @@ class TransmissionErrorResult(Result):
     output_angle_deg: np.ndarray = field(metadata={EXPORT: True})
     te_ccw_arcsec: np.ndarray = field(metadata={EXPORT: True})
     te_cw_arcsec: np.ndarray = field(metadata={EXPORT: True})
-    lost_motion_arcmin: np.ndarray = field(metadata={EXPORT: True})
+    lost_motion_arcmin: np.ndarray = field(metadata={EXPORT: True})  # cycloid_stage_arcmin + other_stages_arcmin
     spectrum_amplitude_arcsec: np.ndarray = field(metadata={EXPORT: True})  # by order 0..N/2, load_direction
 
     @property
@@ -119,7 +129,7 @@ class TransmissionErrorResult(Result):
     def rows(self) -> list[dict]:
         """One row per output position (CSV, DataFrame)."""
         return [{"output_angle_deg": float(a), "te_ccw_arcsec": float(p), "te_cw_arcsec": float(m),
-                 "lost_motion_arcmin": float(lm)}
+                 "lost_motion_arcmin": float(lm), "cycloid_stage_arcmin": float(lm - self.other_stages_arcmin)}
                 for a, p, m, lm in zip(self.output_angle_deg, self.te_ccw_arcsec, self.te_cw_arcsec,
                                        self.lost_motion_arcmin)]
 
@@ -138,7 +148,8 @@ class TransmissionErrorResult(Result):
         out = [f"{self.design_name}, {self.unit}: TE ({self.load_direction}) peak-to-peak "
                f"{self.te_peak_to_peak_arcsec:.2f} arcsec over {self.positions} positions",
                f"lost motion {self.lost_motion_min_arcmin:.4f} .. {self.lost_motion_max_arcmin:.4f} arcmin "
-               f"({self.lost_motion_reference_arcmin:.4f} at the reference position)",
+               f"({self.lost_motion_reference_arcmin:.4f} at the reference position; cycloid stage "
+               f"{self.cycloid_stage_reference_arcmin:.4f} + other stages {self.other_stages_arcmin:.4f})",
                f"leading orders [arcsec]: {lines}" if lines else self.no_spectrum()]
         if self.group_shares:
             out.append("variance share by group: " + ", ".join(f"{s.group} {s.variance_share:.0%}"
@@ -172,9 +183,12 @@ def _has(r: Realization, perfect: Realization, group: str) -> bool:
 
 
 def transmission_error(problem: Problem, r: Realization, label: str, positions: int = DEFAULT_POSITIONS,
-                       load_direction: str = "ccw", shares: bool = True) -> TransmissionErrorResult:
+                       load_direction: str = "ccw", shares: bool = True,
+                       other_stages_arcmin: float | None = None) -> TransmissionErrorResult:
     """The figures of one unit (module docstring). ``shares``: also the TE with each error group
-    the unit has switched off (one more revolution per group)."""
+    the unit has switched off (one more revolution per group). ``other_stages_arcmin``: the
+    unit's involute and crank stages [arcmin] (a measured or drawn unit's); None: their linear
+    means."""
     positions = check_positions(problem, positions)
     if load_direction not in LOAD_DIRECTIONS:
         raise InputError("load_direction", load_direction, f"allowed: {', '.join(LOAD_DIRECTIONS)}")
@@ -189,7 +203,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
         return (rev.ccw_rad - ref.ccw_rad) * ARCSEC_PER_RAD, (rev.cw_rad - ref.cw_rad) * ARCSEC_PER_RAD
 
     ccw, cw = te(run)
-    main, other = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
+    main = ccw if load_direction == "ccw" else cw
     loaded = load_direction == "ccw"
     kin = kinematics(problem)
 
@@ -200,7 +214,11 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
 
     te_min, te_max = extremes(r, run, loaded)
     other_min, other_max = extremes(r, run, not loaded)
-    lm = (run.ccw_rad - run.cw_rad) * ARCMIN_PER_RAD
+    stage = lost_motion_arcmin(run.ccw_rad, run.cw_rad)  # the cycloid stage's gap
+    other_from = "given" if other_stages_arcmin is not None else "linear means"
+    other = float(other_stages_arcmin) if other_stages_arcmin is not None else \
+        float(sum(linear_stage_means(problem)[0].values()))
+    lm = stage + other
     spec = amplitude_spectrum(main)
     lead = [k for k in np.argsort(spec[1:])[::-1][:LEADING_ORDERS] + 1
             if spec[k] > SPECTRUM_FLOOR_ARCSEC]
@@ -219,7 +237,8 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     ripple = (ref.ccw_rad if load_direction == "ccw" else ref.cw_rad) * ARCSEC_PER_RAD
     return TransmissionErrorResult(
         problem.name, label, positions, load_direction, te_max - te_min, te_min, te_max,
-        other_max - other_min, float(lm.max()), float(lm.min()), float(lm[0]), int(np.count_nonzero(run.preload_um > 0)),
+        other_max - other_min, float(lm.max()), float(lm.min()), float(lm[0]), float(stage.max()),
+        float(stage.min()), float(stage[0]), other, other_from, int(np.count_nonzero(run.preload_um > 0)),
         float(np.ptp(ripple)), tuple(SpectralLine(int(k), float(spec[k])) for k in lead), tuple(out_shares),
         math.degrees(r.chi_rad), ASSUMPTIONS, np.degrees(theta), ccw, cw, lm, spec)
 
@@ -256,11 +275,12 @@ def transmission_section(problem: Problem, simulation=None, spec_te_arcsec: floa
     """The report's section (TransmissionSection): the nominal unit, and among the first ``samples``
     units the run draws with ``seed`` those at ``probabilities`` of TE peak-to-peak (lower order
     statistic of the exact curves' peak-to-peak)."""
-    from rvbacklash.sampling.te_source import sample_units
+    from rvbacklash.sampling.te_source import sample_units_with_stages
 
     nominal = transmission_error(problem, perfect_unit(problem), "nominal", positions, shares=False)
-    units = sample_units(problem, seed, samples)
-    curves = [transmission_error(problem, u, f"unit {k} of seed {seed}", positions, shares=False)
+    units, other_stages = sample_units_with_stages(problem, seed, samples)
+    curves = [transmission_error(problem, u, f"unit {k} of seed {seed}", positions, shares=False,
+                                 other_stages_arcmin=float(other_stages[k]))
               for k, u in enumerate(units)]
     order = np.argsort([c.te_peak_to_peak_arcsec for c in curves], kind="stable")
     chosen = {f"{p * 100:g} %": curves[int(order[min(samples - 1, int(p * (samples - 1)))])] for p in probabilities}

@@ -9,6 +9,7 @@ prints it; a body larger than ``MAX_BODY_BYTES`` is refused (413) before it is r
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import importlib.util
 import json
@@ -21,19 +22,22 @@ from typing import Any, Callable
 from starlette.applications import Starlette
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
-from starlette.requests import Request
+from starlette.requests import ClientDisconnect, Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 import rvbacklash.api as api
 from rvbacklash.app.designs import MODELS, DesignCache, EditedDesign, controls
-from rvbacklash.app.jobs import Cancelled, Job, Jobs
-from rvbacklash.app.requests import (MAX_BODY_BYTES, MAX_SAMPLES, BodyTooLarge, check_fields, choice, number_or_none,
-                                     read_body, simulation_inputs, whole)
+from rvbacklash.app.jobs import Cancelled, Job, Jobs, client_watched
+from rvbacklash.app.requests import (MAX_BODY_BYTES, REQUEST_FIELDS, BodyTooLarge, check_fields, choice,
+                                     number_or_none, read_body, samples, simulation_inputs, whole)
 from rvbacklash.design.loading import available_examples
 from rvbacklash.errors import InputError
+from rvbacklash.interrupt import stop_on
 from rvbacklash.report.files import render_csv, render_json
+
+MAX_POSITIONS = 4096  # of a TE curve in the workbench: ~1 s of one thread (65 536: ~15 s, not cancellable)
 
 
 class Results:
@@ -76,8 +80,10 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     def error(e: Exception, status: int = 422, **extra) -> JSONResponse:
         return JSONResponse({"error": str(e), **extra}, status_code=status)
 
-    def endpoint(fields: set[str] | None = None):
-        """A POST handler: body read and checked, bad input as one line, superseded as 409."""
+    def endpoint(fields: set[str] | None = None, name: str = ""):
+        """A POST handler: body read and checked, bad input as one line naming the request's field,
+        superseded or cancelled as 409; a client that goes away cancels its jobs."""
+        renamed = REQUEST_FIELDS.get(name, {})
 
         def wrap(fn):
             async def handler(request: Request) -> Response:
@@ -86,11 +92,17 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
                     body = await read_body(request)
                     if fields is not None:
                         check_fields(body, fields)
-                    response = await fn(body)
+                    async with client_watched(request):
+                        response = await fn(body)
+                except ClientDisconnect:  # gone before its body was in: nothing started, nobody to answer
+                    return Response(status_code=400)
+                except asyncio.CancelledError:  # the server stops and would not wait longer (its job is cancelled)
+                    return JSONResponse({"error": "request: the workbench is stopping"}, status_code=503)
                 except BodyTooLarge as e:
                     return JSONResponse({"error": f"body = {e.args[0]} bytes: allowed: at most {MAX_BODY_BYTES} bytes"},
                                         status_code=413)
                 except InputError as e:
+                    e = e.renamed(renamed.get(e.field, e.field))
                     response = error(e, field=e.field)
                 except Cancelled as e:
                     response = JSONResponse({"error": f"request {e.job.id}: {e.job.reason}", "superseded": True},
@@ -116,7 +128,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
             return Response(item.text, media_type="application/toml")
         return JSONResponse(controls(item))
 
-    @endpoint()
+    @endpoint(name="simulate")
     async def simulate(body: dict) -> Response:
         inputs = simulation_inputs(body)
         fmt = choice(body, "format", "json", ("json", "csv"))
@@ -147,14 +159,14 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
 
     @endpoint({"samples", "seed"})
     async def elastic_section(body: dict) -> Response:
-        n = whole(body, "samples", 2000, 20, 100_000)
+        n = samples(body, "elastic-section", "elastic", 2000, 20)
         seed = whole(body, "seed", 0, 0, 2**63 - 1)
         return rendered(await run(body, lambda job: api.elastic_section(design_of(body).problem, samples=n, seed=seed),
                                   pool="figures"))
 
     @endpoint({"positions", "load_direction"})
     async def transmission_error(body: dict) -> Response:
-        positions = whole(body, "positions", 1024, 1, 1 << 16)
+        positions = whole(body, "positions", 1024, 1, MAX_POSITIONS, " in the workbench (the command line has no limit)")
         direction = choice(body, "load_direction", "ccw", ("ccw", "cw"))
         return rendered(await run(body, lambda job: api.transmission_error(
             design_of(body).problem, positions=positions, load_direction=direction), pool="figures"))
@@ -162,7 +174,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     @endpoint({"model", "output", "samples", "seed"})
     async def sensitivity(body: dict) -> Response:
         model = choice(body, "model", "linear", MODELS)
-        n = whole(body, "samples", api.SENSITIVITY_SAMPLES, 2, 1 << 20)
+        n = samples(body, "sensitivity", model, api.SENSITIVITY_SAMPLES, 64)  # 64: the Sobol run's least N
         seed = whole(body, "seed", 0, 0, 2**63 - 1)
         output = body.get("output")
         def compute(job: Job):
@@ -173,7 +185,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return rendered(await run(body, compute, pool="demand"))
 
     @endpoint({"model", "spec_arcmin", "yield", "spec_rigidity_nm_per_arcmin", "spec_preload_um", "spec_te_arcsec",
-               "samples", "seed"})
+               "samples", "seed"}, name="allocate")
     async def allocate(body: dict) -> Response:
         model = choice(body, "model", "linear", MODELS)
         spec = number_or_none(body, "spec_arcmin")
@@ -184,21 +196,19 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         kwargs = {"spec_rigidity_nm_per_arcmin": number_or_none(body, "spec_rigidity_nm_per_arcmin"),
                   "spec_preload_um": number_or_none(body, "spec_preload_um"),
                   "spec_te_arcsec": number_or_none(body, "spec_te_arcsec"),
-                  "samples": whole(body, "samples", api.ALLOCATION_SAMPLES, 1, MAX_SAMPLES),
                   "seed": whole(body, "seed", 0, 0, 2**63 - 1)}
-        if model == "linear":
-            kwargs.pop("samples")
+        if model != "linear":  # the linear model's allocation is exact: no samples
+            kwargs["samples"] = samples(body, "allocate", model, api.ALLOCATION_SAMPLES, 1000)
         return rendered(await run(body, lambda job: api.allocate(
             design_of(body).problem, spec_arcmin=spec, yield_target=target, model=model, progress=job.progress,
             **kwargs), pool="demand", total=None if model == "linear" else 200))
 
-    @endpoint()
+    @endpoint(name="report")
     async def report(body: dict) -> Response:
-        from rvbacklash.report.html import render_html
-
         inputs = simulation_inputs(body)
         if choice(body, "format", "html", ("html",)) != "html":  # pragma: no cover - one format
             raise InputError("format", body["format"], "allowed: html")
+        from rvbacklash.report.html import render_html  # (seconds the first time: after the checks)
         te = inputs["specs"].pop("transmission_error", None)
 
         def compute(job: Job) -> str:
@@ -206,6 +216,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
                                    method=inputs["method"], spec_arcmin=inputs["spec_arcmin"],
                                    specs=inputs["specs"] or None, model=inputs["model"], spec_te_arcsec=te,
                                    progress=job.progress)
+            job.check()  # cancelled while the report's later sections ran: no rendering
             return render_html(data)
 
         html = await run(body, compute, pool="demand", total=inputs["samples"])
@@ -256,10 +267,11 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         time ever a minute) before the first change asks for them."""
         try:
             item = designs.get(initial_design, None, initial_origin)
-            for m in controls(item)["models"]:
-                if jobs.stopping.is_set():  # Ctrl-C during the warm-up: stop between models
-                    return
-                api.simulate(item.problem, model=m, samples=256, seed=0)
+            with stop_on(jobs.stopping):  # Ctrl-C during the warm-up: its runs stop as a job's do
+                for m in controls(item)["models"]:
+                    if jobs.stopping.is_set():  # and no next model starts
+                        return
+                    api.simulate(item.problem, model=m, samples=256, seed=0)
             if item.problem.design.elastic is not None and not jobs.stopping.is_set():
                 api.hysteresis(item.problem)
         except Exception:  # the page reports a bad design itself; a warm-up never stops the server
@@ -270,7 +282,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         if warm:
             jobs.background(warm_up)
         yield
-        jobs.shutdown()  # every job cancelled, the worker threads joined
+        jobs.shutdown(timeout_s=2.0)  # every job cancelled, the worker threads stopped (a few seconds at most)
 
     application = Starlette(routes=routes, middleware=middleware, lifespan=lifespan)
     application.state.jobs = jobs

@@ -14,11 +14,17 @@ one's. ``POST /api/cancel`` cancels a job by id (the page's cancel button).
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import contextvars
 import itertools
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from typing import Any, Callable
+
+from starlette.requests import Request
+
+from rvbacklash.interrupt import stop_on
 
 
 class Cancelled(Exception):
@@ -52,6 +58,10 @@ class Job:
         self.done = int(done)
         if total is not None:
             self.total = int(total)
+        self.check()
+
+    def check(self) -> None:
+        """Raise ``Cancelled`` if the job was cancelled (between the steps of a job)."""
         if self.cancel_event.is_set():
             raise Cancelled(self)
 
@@ -73,6 +83,7 @@ class Jobs:
         self._jobs: dict[str, Job] = {}  # the last `keep` jobs, for progress and cancel
         self._keep = keep
         self._ids = itertools.count(1)
+        self._futures: set[Future] = set()  # submitted, not done (the shutdown waits for them, bounded)
         self.stopping = threading.Event()  # set when the server stops (the warm-up checks it)
 
     def _register(self, job_id: Any, channel: Any, total: int | None) -> Job:
@@ -94,10 +105,24 @@ class Jobs:
 
     async def run(self, fn: Callable[[Job], Any], *, job_id: Any = None, channel: Any = None, pool: str = "live",
                   total: int | None = None) -> tuple[Job, Any]:
-        """Run ``fn(job)`` in the pool's thread; (job, its result). Raises ``Cancelled``."""
+        """Run ``fn(job)`` in the pool's thread; (job, its result). Raises ``Cancelled``, also when
+        the client of the request (``client_watched``) goes away meanwhile."""
         job = self._register(job_id, channel, total)
-        loop = asyncio.get_running_loop()
-        return job, await loop.run_in_executor(self._pools[pool], self._call, job, fn)
+        future = asyncio.wrap_future(self._submit(pool, self._call, job, fn))
+        gone = _client_gone.get()
+        try:
+            if gone is not None:
+                waiter = asyncio.ensure_future(gone.wait())
+                try:
+                    await asyncio.wait({future, waiter}, return_when=asyncio.FIRST_COMPLETED)
+                finally:
+                    waiter.cancel()
+                if gone.is_set():
+                    job.cancel("the client went away")
+            return job, await future
+        except asyncio.CancelledError:  # the request itself was cancelled (the server stops): so is its job
+            job.cancel("server stopping")
+            raise
 
     def _call(self, job: Job, fn: Callable[[Job], Any]) -> Any:
         if job.cancel_event.is_set():  # superseded while it waited: never started
@@ -105,11 +130,15 @@ class Jobs:
             raise Cancelled(job)
         job.state = "running"
         try:
-            result = fn(job)
+            with stop_on(job.cancel_event):  # the job's loops stop when it is cancelled, as on Ctrl-C
+                result = fn(job)
         except Cancelled:
             job.state = "cancelled"
             raise
         except BaseException:
+            if job.cancel_event.is_set():  # what a stopped loop raised (too little done to keep, ...)
+                job.state = "cancelled"
+                raise Cancelled(job) from None
             job.state = "failed"
             raise
         if job.cancel_event.is_set():  # finished as it was superseded: its result is not the newest input's
@@ -118,9 +147,16 @@ class Jobs:
         job.state = "finished"
         return result
 
+    def _submit(self, pool: str, fn: Callable, *args) -> Future:
+        future = self._pools[pool].submit(fn, *args)
+        with self._lock:
+            self._futures.add(future)
+        future.add_done_callback(self._futures.discard)
+        return future
+
     def background(self, fn: Callable[[], Any]) -> None:
         """Run ``fn()`` in the live thread, ahead of any request (the warm-up)."""
-        self._pools["live"].submit(fn)
+        self._submit("live", fn)
 
     def get(self, job_id: str) -> Job | None:
         with self._lock:
@@ -137,10 +173,44 @@ class Jobs:
         with self._lock:
             return sum(j.state in ("queued", "running") for j in self._jobs.values())
 
-    def shutdown(self) -> None:
+    def cancel_all(self, reason: str) -> None:
+        """Every job cancelled (the server stops): the running ones stop at their next check. No
+        lock: a signal handler calls it, maybe while this thread holds the lock."""
         self.stopping.set()
-        with self._lock:
-            for job in self._jobs.values():
-                job.cancel("server stopping")
+        for job in list(self._jobs.values()):  # one C-level copy: no other code runs meanwhile
+            job.cancel(reason)
+
+    def shutdown(self, timeout_s: float = 10.0) -> bool:
+        """Every job cancelled, the threads stopped: whether they all stopped within ``timeout_s``
+        (a step no job can interrupt, e.g. numba compiling a kernel in the warm-up, may take longer:
+        the process then ends without waiting for it)."""
+        self.cancel_all("server stopping")
         for pool in self._pools.values():
-            pool.shutdown(wait=True, cancel_futures=True)
+            pool.shutdown(wait=False, cancel_futures=True)
+        with self._lock:
+            running = set(self._futures)
+        return not wait(running, timeout=timeout_s).not_done
+
+
+_client_gone: contextvars.ContextVar[asyncio.Event | None] = contextvars.ContextVar("rvb_client_gone", default=None)
+
+
+@contextlib.asynccontextmanager
+async def client_watched(request: Request):
+    """Inside it, the jobs a request runs are cancelled if its client goes away (ASGI's
+    ``http.disconnect``: a closed tab, a script stopped): nobody would read their answer. Enter it
+    once the body is read (the messages that follow it are the disconnect)."""
+    gone = asyncio.Event()
+
+    async def watch() -> None:
+        while (await request.receive())["type"] != "http.disconnect":
+            pass
+        gone.set()
+
+    watcher = asyncio.create_task(watch())
+    token = _client_gone.set(gone)
+    try:
+        yield
+    finally:
+        _client_gone.reset(token)
+        watcher.cancel()

@@ -15,13 +15,45 @@ from rvbacklash.app.designs import MODELS
 from rvbacklash.errors import InputError
 
 MAX_BODY_BYTES = 1 << 20  # a design file is ~10 kB; nothing the page sends comes near
-MAX_SAMPLES = 10_000_000  # per run of the workbench (the command line has no such limit)
+MAX_DEPTH = 16  # nesting of a body's objects and lists (the page sends 3: {"edits": {"path": value}})
+MAX_LABEL = 200  # characters of request_id and channel (a label; ids are kept for progress and cancel)
+# The most samples each job accepts, by model: what it finishes in about a minute on a 2-core machine
+# (CPU per unit: linear 0.1 us, contact 8 us, elastic 50 us, transmission 530 us; bench/bench_app_stop.py).
+# A Sobol run evaluates N (D + 2) units (D ~ 20 groups); an allocation up to 200 candidates of `samples`
+# each. Beyond: the command line, which has no such limit (and Ctrl-C).
+SAMPLE_CAPS = {
+    "simulate": {"linear": 10_000_000, "contact": 10_000_000, "elastic": 2_000_000, "transmission": 200_000},
+    "sensitivity": {"linear": 1 << 20, "contact": 1 << 19, "elastic": 1 << 16, "transmission": 1 << 13},
+    "allocate": {"contact": 1 << 16, "elastic": 10_000, "transmission": 2000},
+    "elastic-section": {"elastic": 10_000},  # one draw and evaluation, then four loops: not interruptible, ~0.5 CPU-s
+}
+SAMPLE_CAPS["report"] = SAMPLE_CAPS["simulate"]
+MAX_SAMPLES = max(SAMPLE_CAPS["simulate"].values())
 # "specs" keys of a request -> the parameter (and --spec-... flag) of the command line
 SPEC_KEYS = {"arcmin": "spec_arcmin", "lost_motion_arcmin": "spec_lost_motion_arcmin",
              "rigidity_nm_per_arcmin": "spec_rigidity_nm_per_arcmin", "preload_um": "spec_preload_um",
              "te_arcsec": "spec_te_arcsec"}
 SPEC_FIELDS = {param: f"specs.{key}" for key, param in SPEC_KEYS.items()}
+# API parameter -> the request's field, per endpoint where they differ (the command line's cli.common.FLAGS
+# maps them to its flags): an error names what the request (and the page's control) calls it
+REQUEST_FIELDS = {"simulate": SPEC_FIELDS, "report": SPEC_FIELDS, "allocate": {"yield_target": "yield"}}
 COMMON_FIELDS = {"design", "origin", "edits", "request_id", "channel"}
+
+
+def samples_cap(job: str, model: str) -> int:
+    """The most samples ``job`` (an endpoint's name) accepts with ``model``."""
+    return SAMPLE_CAPS[job][model]
+
+
+def nesting_depth(data) -> int:
+    """How deep lists and objects nest in parsed JSON (iterative: any depth)."""
+    deepest, todo = 0, [(data, 1)]
+    while todo:
+        item, depth = todo.pop()
+        if isinstance(item, (dict, list)):
+            deepest = max(deepest, depth)
+            todo.extend((v, depth + 1) for v in (item.values() if isinstance(item, dict) else item))
+    return deepest
 
 
 class BodyTooLarge(Exception):
@@ -41,12 +73,22 @@ async def read_body(request: Request) -> dict:
         body += chunk
         if len(body) > MAX_BODY_BYTES:
             raise BodyTooLarge(len(body))
+    too_deep = InputError("body", allowed=f"nested too deep; allowed: a JSON object nested at most {MAX_DEPTH} deep")
     try:
         data = json.loads(body or b"{}")
+    except RecursionError:  # the parser's own limit (~1000 levels)
+        raise too_deep from None
     except (ValueError, UnicodeDecodeError):
         raise InputError("body", allowed="allowed: a JSON object") from None
     if not isinstance(data, dict):
         raise InputError("body", type(data).__name__, "allowed: a JSON object")
+    if nesting_depth(data) > MAX_DEPTH:  # what is read from it later (edits, the cache's key) recurses too
+        raise too_deep
+    for name in ("request_id", "channel"):
+        if name in data and (not isinstance(data[name], (str, int)) or isinstance(data[name], bool)
+                             or len(str(data[name])) > MAX_LABEL):
+            raise InputError(name, str(data[name])[:40] + "...", f"allowed: a string or whole number of at most "
+                                                                 f"{MAX_LABEL} characters")
     return data
 
 
@@ -56,13 +98,24 @@ def check_fields(body: dict, allowed: set[str]) -> None:
             raise InputError(str(key), allowed=f"unknown field; allowed: {', '.join(sorted(allowed | COMMON_FIELDS))}")
 
 
-def whole(body: dict, name: str, default: int, low: int, high: int) -> int:
+def whole(body: dict, name: str, default: int, low: int, high: int, why: str = "") -> int:
     value = body.get(name, default)
     if isinstance(value, float) and value.is_integer():
         value = int(value)
     if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise InputError(name, value, f"allowed: a whole number {low} to {high}")
+        raise InputError(name, value, f"allowed: a whole number {low} to {high}{why}")
     return value
+
+
+def samples(body: dict, job: str, model: str, default: int, low: int = 1) -> int:
+    """The request's ``samples``, within what ``job`` finishes with ``model`` (SAMPLE_CAPS); a
+    Sobol run's a power of two."""
+    high = samples_cap(job, model)
+    where = f" for the {model} model in the workbench (the command line has no limit)"
+    n = whole(body, "samples", min(default, high), low, high, where)
+    if job == "sensitivity" and n & (n - 1):
+        raise InputError("samples", n, f"allowed: a power of two {low} to {high}{where}")
+    return n
 
 
 def number_or_none(body: dict, name: str, field: str | None = None) -> float | None:
@@ -103,7 +156,7 @@ def simulation_inputs(body: dict) -> dict:
         model, limits["spec_te_arcsec"],
         api.output_specs(model, limits["spec_arcmin"], limits["spec_lost_motion_arcmin"],
                          limits["spec_rigidity_nm_per_arcmin"], limits["spec_preload_um"])))
-    return {"samples": whole(body, "samples", api.DEFAULT_SAMPLES, 1, MAX_SAMPLES),
+    return {"samples": samples(body, "simulate", model, api.DEFAULT_SAMPLES),
             "seed": whole(body, "seed", 0, 0, 2**63 - 1), "method": choice(body, "method", "default",
                                                                            ("default", "box-muller", "sobol")),
             "model": model, "spec_arcmin": limits["spec_arcmin"], "specs": by_output}

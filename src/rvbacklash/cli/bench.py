@@ -17,6 +17,16 @@ ANGLE_UNIT = typer.Option(None, "--angle-unit", help="Unit of angle columns whos
                                                      "deg, rad, mrad, urad.")
 LOOP_FIGURES = ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin")
 TIME_UNIT = typer.Option(None, "--time-unit", help="Unit of a time column whose header has none: s, ms, min.")
+COLUMNS = typer.Option(None, "--columns", metavar="MAP",
+                       help="Column map for headers not recognised: ROLE=COLUMN pairs, comma-separated (roles: "
+                            "angle, te, input_angle, torque, time; angle_bw, te_bw, input_angle_bw for a backward "
+                            "run; direction), e.g. te=Transmission_Error_Fw,te_bw=Transmission_Error_Bw.")
+FORMAT_PROFILE = typer.Option(None, "--format-profile", metavar="FILE",
+                              help="A rig's file format as TOML: column map, units, decimal mark, separator, sheet, "
+                                   "direction values (docs/bench-data.md, 'Rig files'); flags override it.")
+DECIMAL = typer.Option(None, "--decimal", metavar="MARK",
+                       help="Decimal mark of the numbers: '.' or ','. Default: '.', and ',' where the file is "
+                            "separated by ';' or tabs.")
 
 
 def print_bench(result, console) -> None:
@@ -24,7 +34,7 @@ def print_bench(result, console) -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from rvbacklash.analysis.bench import BenchLoop
+    from rvbacklash.analysis.bench import BenchLoop, BenchTransmissionError, BenchTwoRunTE
 
     loops = [u for u in result.units if isinstance(u, BenchLoop)]
     if loops:
@@ -45,7 +55,7 @@ def print_bench(result, console) -> None:
                       f"{u.hysteresis_loss_j:.3g}",
                       escape(f"{u.cycles} cycles, {u.samples} samples, noise {u.noise_arcmin:.4f} arcmin, {drift}"))
         console.print(t)
-    tes = [u for u in result.units if not isinstance(u, BenchLoop)]
+    tes = [u for u in result.units if isinstance(u, BenchTransmissionError)]
     if tes:
         t = Table(title="Measured transmission error", title_justify="left")
         for col in ("file", "TE p-p [arcsec]", "leading orders [arcsec]", "found"):
@@ -56,6 +66,9 @@ def print_bench(result, console) -> None:
                       escape(f"{u.revolutions:.2f} revolutions, {u.samples} samples, noise {u.noise_arcsec:.2f} "
                              f"arcsec"))
         console.print(t)
+    two = [u for u in result.units if isinstance(u, BenchTwoRunTE)]
+    if two:
+        print_two_runs(two, console)
     if result.design_name is not None:
         t = Table(title=f"In the predicted production run of {result.design_name} ({result.samples_predicted} units, "
                         f"seed {result.seed})", title_justify="left")
@@ -78,13 +91,45 @@ def print_bench(result, console) -> None:
     for u in result.units:
         for n in u.notes:
             console.print(f"[dim]{escape(u.source)}: {escape(n)}[/]")
+        for line in u.metadata[:MAX_METADATA_SHOWN]:
+            console.print(f"[dim]{escape(u.source)}: metadata: {escape(line)}[/]")
+        if len(u.metadata) > MAX_METADATA_SHOWN:
+            console.print(f"[dim]{escape(u.source)}: metadata: {len(u.metadata) - MAX_METADATA_SHOWN} more lines "
+                          f"(--json: metadata)[/]")
+    for w in result.warnings:
+        console.print(f"[bold red]warning:[/] {escape(w)}")
+
+
+MAX_METADATA_SHOWN = 6
+
+
+def print_two_runs(units, console) -> None:
+    """One row per unit of two TE runs: each run's peak-to-peak and orders, the lost motion."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    t = Table(title="Measured transmission error, forward and backward runs (lost motion: the gap between the runs, "
+                    "as the transmission model's at every output position)", title_justify="left")
+    for col in ("file", "TE p-p fw / bw [arcsec]", "leading orders fw [arcsec]", "leading orders bw [arcsec]",
+                "lost motion mean (min .. max) [arcmin]", "found"):
+        t.add_column(escape(col), justify="right" if col.startswith(("TE", "lost")) else "left")
+    for u in units:
+        f, b = u.forward, u.backward
+        t.add_row(escape(u.source), f"{u.te_peak_to_peak_arcsec:.2f} / {u.te_peak_to_peak_backward_arcsec:.2f}",
+                  *(", ".join(f"{s.order}: {s.amplitude_arcsec:.2f}" for s in r.leading_orders[:4]) or "none"
+                    for r in (f, b)),
+                  f"{u.lost_motion_mean_arcmin:.4f} ({u.lost_motion_min_arcmin:.4f} .. {u.lost_motion_max_arcmin:.4f})",
+                  escape(f"{f.revolutions:.2f} / {b.revolutions:.2f} revolutions, {f.samples} / {b.samples} samples, "
+                         f"noise {f.noise_arcsec:.2f} / {b.noise_arcsec:.2f} arcsec; {u.ccw_run} run above"))
+    console.print(t)
 
 
 @app.command()
 @command
 def bench(
-    files: List[Path] = typer.Argument(..., help="Bench files (CSV/TSV, one unit each): a hysteresis loop (torque "
-                                                 "and output angle columns) or a TE curve (output angle and TE).",
+    files: List[Path] = typer.Argument(..., help="Bench files (CSV/TSV/.xlsx, one unit each): a hysteresis loop "
+                                                 "(torque and output angle columns) or a TE curve (output angle and "
+                                                 "TE; one run, or forward and backward runs of the unit).",
                                        metavar="FILE..."),
     design: Optional[str] = typer.Option(None, "--design", help="Place each unit in this design's predicted "
                                                                 "production run. " + DESIGN_HELP, metavar="D"),
@@ -94,6 +139,9 @@ def bench(
     angle_unit: Optional[str] = ANGLE_UNIT,
     te_unit: Optional[str] = typer.Option(None, "--te-unit", help="Unit of a TE column whose header has none."),
     time_unit: Optional[str] = TIME_UNIT,
+    columns: Optional[str] = COLUMNS,
+    format_profile: Optional[Path] = FORMAT_PROFILE,
+    decimal: Optional[str] = DECIMAL,
     ratio: Optional[float] = typer.Option(None, "--ratio", help="Reduction ratio for TE files with input and output "
                                                                 "angles; default: the design's."),
     samples: str = typer.Option("2000", "--samples", "-n", help="Predicted units with --design (TE: at most 200)."),
@@ -119,18 +167,20 @@ def bench(
     problem = api.prepare(design) if design is not None else None
     result = api.read_bench(files, design=problem, rated_torque_nm=rated_torque_nm, torque_unit=torque_unit,
                             angle_unit=angle_unit, te_unit=te_unit, time_unit=time_unit, ratio=ratio, samples=n,
-                            seed=seed)
+                            seed=seed, columns=columns, format_profile=format_profile, decimal=decimal)
     data, rows = result.to_dict(), result.rows()
 
     def svg() -> str:
-        nominal, others = None, ()
+        nominal, others, te_model = None, (), None
         if problem is not None and problem.design.elastic is not None and \
                 any(u.kind == "hysteresis" for u in result.units):
             from rvbacklash.analysis.hysteresis import elastic_section
 
             s = elastic_section(problem, samples=min(n, 2000), seed=seed)
             nominal, others = s.nominal, tuple(s.quantile_units.values())
-        return bench_svg(result, nominal, others)
+        if problem is not None and any(u.kind == "transmission_error_two_runs" for u in result.units):
+            te_model = api.transmission_error(problem, shares=False)  # the nominal unit's lost motion curve
+        return bench_svg(result, nominal, others, te_model=te_model)
 
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows), "--plot": svg},
                lambda: print_bench(result, stdout_console()), data, rows)
@@ -159,13 +209,16 @@ def print_calibration(result, console) -> None:
     for k, s in result.spread.items():
         pred = "" if s["predicted_sigma"] is None else f"; predicted {s['predicted_sigma']:.4g}"
         console.print(f"unit-to-unit spread of {k}: sigma {s['measured_sigma']:.4g} over {s['units']} units{pred}")
+    for w in result.warnings:
+        console.print(f"[bold red]warning:[/] {escape(w)}")
 
 
 @app.command()
 @command
 def calibrate(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    bench_files: List[Path] = typer.Option(..., "--bench", help="A measured loop (CSV/TSV; repeat for a batch).",
+    bench_files: List[Path] = typer.Option(..., "--bench", help="A measured loop (CSV/TSV/.xlsx; repeat for a "
+                                                                "batch).",
                                            metavar="FILE"),
     write_design: Optional[str] = typer.Option(None, "--write-design", metavar="FILE",
                                                help="Write the calibrated design (TOML, comments say what was "
@@ -173,6 +226,9 @@ def calibrate(
     torque_unit: Optional[str] = TORQUE_UNIT,
     angle_unit: Optional[str] = ANGLE_UNIT,
     time_unit: Optional[str] = TIME_UNIT,
+    columns: Optional[str] = COLUMNS,
+    format_profile: Optional[Path] = FORMAT_PROFILE,
+    decimal: Optional[str] = DECIMAL,
     bootstrap: int = typer.Option(50, "--bootstrap", help="Resamples over units for the intervals (3 units or more)."),
     samples: str = typer.Option("0", "--samples", "-n", help="Predicted units for the spread comparison (0: none)."),
     seed: int = SEED_OPTION,
@@ -195,7 +251,8 @@ def calibrate(
     out = Outputs(fmt, force, quiet, write_design=write_design, json=json_out, csv=csv_out, plot=plot)
     n = parse_samples(samples)
     result = api.calibrate(design, bench=bench_files, torque_unit=torque_unit, angle_unit=angle_unit,
-                           time_unit=time_unit, bootstrap=bootstrap, seed=seed, samples=n)
+                           time_unit=time_unit, bootstrap=bootstrap, seed=seed, samples=n, columns=columns,
+                           format_profile=format_profile, decimal=decimal)
     data, rows = result.to_dict(), result.rows()
     out.finish({"--write-design": lambda: design_toml(result.design, calibration_header(result)),
                 "--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),

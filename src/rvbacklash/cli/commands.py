@@ -67,6 +67,13 @@ def simulate(
     spec_rigidity_nm_per_arcmin: Optional[float] = SPEC_RIGIDITY_OPTION,
     spec_preload_um: Optional[float] = SPEC_PRELOAD_OPTION,
     spec_te_arcsec: Optional[float] = SPEC_TE_OPTION,
+    spec_life_h: Optional[float] = typer.Option(None, "--spec-life-h", help="Spec of the reducer's L10 at the rated "
+                                                "torque and speed (lower limit) [h]; --model elastic (docs/capacity.md)."),
+    spec_rated_torque_nm: Optional[float] = typer.Option(None, "--spec-rated-torque-nm", help="Spec of the derived "
+                                                         "rated torque (lower limit) [N m]; --model elastic."),
+    life: bool = typer.Option(False, "--life", help="Each unit's life, weakest bearing's life, derived rated torque and "
+                                                    "largest pin stress beside its precision figures (--model elastic; "
+                                                    "implied by a life spec)."),
     json_out: Optional[str] = json_option(),
     csv_out: Optional[str] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
@@ -81,7 +88,9 @@ def simulate(
     n = parse_samples(samples) if method != "exact" else None
     threads = workers_or_none(workers)
     specs = api.output_specs(model, spec_arcmin, spec_lost_motion_arcmin, spec_rigidity_nm_per_arcmin,
-                         spec_preload_um)
+                             spec_preload_um, spec_life_h, spec_rated_torque_nm)
+    if life and model != "elastic":
+        raise InputError("--life", True, "allowed with --model elastic only")
     model, specs = api.te_model_and_specs(model, spec_te_arcsec, specs)
     n_save, save_path = save_units if save_units is not None else (0, None)
     if save_units is not None and n_save < 1:
@@ -91,7 +100,8 @@ def simulate(
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         result = api.simulate(problem, samples=n if n is not None else 1, seed=seed, method=method,
                               spec_arcmin=spec_arcmin, quantiles=quantile, workers=threads, model=model,
-                              progress=progress, error_model=error_model, save_units=n_save, specs=specs)
+                              progress=progress, error_model=error_model, save_units=n_save, specs=specs,
+                              life=life)
     data, rows = result.to_dict(), result.rows()
 
     def units_toml() -> str:
@@ -220,6 +230,8 @@ def report(
     sweep: Optional[Path] = typer.Option(None, "--sweep", help="Add a finished sweep's results (the --out DIR of "
                                                                "`rvbacklash sweep`).", metavar="DIR"),
     workers: int = WORKERS_OPTION,
+    capacity: bool = typer.Option(False, "--capacity", help="Add the capacity and life section (the nominal unit's "
+                                                            "bearings, lives, derived ratings: docs/capacity.md)."),
     json_out: Optional[str] = json_option("every number of the report"),
     csv_out: Optional[str] = csv_option("the key numbers"),
     fmt: Format = typer.Option(Format.table, "--format", help="What to print on standard output: table (the path "
@@ -258,7 +270,7 @@ def report(
                                spec_preload_um=spec_preload_um, spec_te_arcsec=spec_te_arcsec,
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
-                               progress=progress)
+                               progress=progress, capacity=capacity)
     summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
                "key_numbers": data.key_numbers()}
     rows = data.rows()
@@ -407,6 +419,7 @@ class SchemaOutput(str, Enum):
     sweep = "sweep"
     transmission_error = "transmission-error"
     contact = "contact"
+    capacity = "capacity"
     bench = "bench"
     calibrate = "calibrate"
 
@@ -415,7 +428,7 @@ class SchemaOutput(str, Enum):
 @command
 def schema(output: Optional[SchemaOutput] = typer.Option(
         None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
-                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate); its "
+                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate, capacity); its "
                                "schema_version is in CHANGELOG.md.")
            ) -> None:
     """Print the JSON schema of the design file, or of a command's JSON output (--output)."""

@@ -32,6 +32,9 @@ FLAGS = {
     "spec_te_arcsec": "--spec-te-arcsec",
     "rated_torque_nm": "--rated-torque-nm", "ratio": "--ratio", "bootstrap": "--bootstrap", "files": "FILE",
     "torque_unit": "--torque-unit", "angle_unit": "--angle-unit", "te_unit": "--te-unit", "time_unit": "--time-unit",
+    "columns": "--columns", "format_profile": "--format-profile", "decimal": "--decimal",
+    "duty_cycle": "--duty-cycle", "angles": "--angles", "life_method": "--life-method",
+    "spec_life_h": "--spec-life-h", "spec_rated_torque_nm": "--spec-rated-torque-nm",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 

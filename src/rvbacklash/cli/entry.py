@@ -15,6 +15,7 @@ import typer
 import rvbacklash.cli.commands  # noqa: F401  (registers the commands on the app)
 import rvbacklash.cli.allocation  # noqa: F401  (sensitivity, allocate)
 import rvbacklash.cli.hysteresis  # noqa: F401  (hysteresis)
+import rvbacklash.cli.capacity  # noqa: F401  (capacity)
 import rvbacklash.cli.bench  # noqa: F401  (bench, calibrate)
 import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 import rvbacklash.cli.transmission  # noqa: F401  (transmission-error)

@@ -25,7 +25,8 @@ def print_hysteresis(result, console) -> None:
         t.add_column(col, justify="left" if col != "value" else "right")
     x = r.measuring_torque_fraction * 100
     lo, hi = (v * 100 for v in r.rigidity_interval_fraction)
-    t.add_row(escape("lost motion [arcmin]"), f"{r.lost_motion_arcmin:.4f}",
+    t.add_row(escape("lost motion [arcmin]"), f"{r.lost_motion_arcmin:.4f}"
+              + (" [bold red](stick band)[/]" if r.lost_motion_in_stick_band else ""),
               escape(f"mean of load/unload angles at +{x:g} % T_R minus the same at -{x:g} % T_R"))
     t.add_row(escape("backlash [arcmin]"), f"{r.backlash_arcmin:.4f}", "width of the loop at zero torque")
     t.add_row(escape("torsional rigidity [N m/arcmin]"), f"{r.torsional_rigidity_nm_per_arcmin:.1f}",
@@ -62,6 +63,8 @@ def print_hysteresis(result, console) -> None:
                   f"involute mesh {r.involute_stiffness_nm_per_arcmin:.3g} N m/arcmin, structure {escape(structure)}, friction "
                   f"{r.friction_torque_nm:g} N m + {r.friction_load_fraction:g} |T|; crank clearance "
                   f"{r.crank_clearance_um:.2f} um, involute backlash {r.involute_backlash_arcmin:.4f} arcmin[/]")
+    for w in r.warnings:
+        console.print(f"[bold red]warning:[/] {escape(w)}")
 
 
 @app.command()

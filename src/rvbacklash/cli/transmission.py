@@ -29,6 +29,8 @@ def print_transmission_error(result, console) -> None:
     t.add_row(escape("lost motion min .. max [arcmin]"),
               f"{r.lost_motion_min_arcmin:.4f} .. {r.lost_motion_max_arcmin:.4f}")
     t.add_row(escape("lost motion at the reference position [arcmin]"), f"{r.lost_motion_reference_arcmin:.4f}")
+    t.add_row(escape("  = cycloid stage [arcmin]"), f"{r.cycloid_stage_reference_arcmin:.4f}")
+    t.add_row(escape(f"  + involute and crank stages [arcmin] ({r.other_stages_from})"), f"{r.other_stages_arcmin:.4f}")
     t.add_row("positions with the cycloid stage preloaded", str(r.preloaded_positions))
     t.add_row(escape("error-free unit's own ripple [arcsec]"), f"{r.nominal_ripple_arcsec:.3f}")
     console.print(t)

@@ -12,6 +12,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
+from rvbacklash.design.capacity import CapacityInputs
 from rvbacklash.design.costs import Costs
 from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.design.structure import StructureInputs, check_structure
@@ -296,6 +297,7 @@ class Design(_Strict):
     transmission_error: TransmissionErrorInputs = TransmissionErrorInputs()  # docs/transmission-error.md
     elastic: ElasticInputs | None = None  # test-bench hysteresis model (design/elastic.py, docs/elastic.md)
     structure: StructureInputs | None = None  # the whole torque path (design/structure.py); None: rigid
+    capacity: CapacityInputs = CapacityInputs()  # rated life and speed, static limits (design/capacity.py)
 
     @model_validator(mode="after")
     def _every_factor_has_a_zone(self) -> "Design":

@@ -22,6 +22,11 @@ main_bearing_stiffness_nm_per_arcmin`` and ``structure_stiffness_nm_per_arcmin``
 measured value wins over the derivation (``structure_stiffness_nm_per_arcmin`` replaces the
 crankshafts, support bearings and carrier).
 
+With other than two discs the crankshafts, support bearings and carrier (derived for two discs
+symmetric about the crank's mid-span) must be stated (``elastic.structure_stiffness_nm_per_arcmin``);
+the table then still gives the disc bodies' FE and the discs' sideways motion across the eccentric
+(``models/elastic/chain.py``, ``with_structure``; docs/elastic.md).
+
 No field has a default that stands for a dimension: a design states its own (the rv80e example
 says where each of its numbers comes from). Materials default to steel (handbook values).
 
@@ -77,6 +82,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rvbacklash.design.elastic import check_profile
 from rvbacklash.errors import InputError
+from rvbacklash.geometry.carrier_layout import crank_angles_rad, pillar_angles_rad
 from rvbacklash.geometry.reducer import centre_distance_mm
 from rvbacklash.geometry.disc_holes import crank_bore_diameter_mm, disc_holes, pillar_hole_clearance_diameter_mm
 
@@ -182,6 +188,34 @@ class StructureInputs(_Strict):
         None, gt=0, le=5000, description="diameter of a hole in the discs' centre (the input shaft's passage) [mm]; "
                                          "default: none (a solid centre)")
 
+    # Capacity and life (issue 37; docs/capacity.md): the support bearings' pitch diameter and stated ratings,
+    # and the output's main bearings (an angular-contact ball pair, back to back). None: not given.
+    support_bearing_pitch_diameter_mm: float | None = Field(
+        None, gt=0, le=5000, description="pitch diameter D_pw of the support bearings' rollers [mm] (ISO 281's f_c); "
+                                         "default: (crankshaft_diameter_mm + support_bearing_seat_diameter_mm) / 2")
+    support_bearing_dynamic_load_rating_n: float | None = Field(
+        None, gt=0, le=1e8, description="the support bearings' basic dynamic load rating C_r from the maker's "
+                                        "catalogue [N]; default: ISO 281 from the rollers' geometry")
+    support_bearing_static_load_rating_n: float | None = Field(
+        None, gt=0, le=1e8, description="the support bearings' basic static load rating C_0r from the maker's "
+                                        "catalogue [N]; default: ISO 76 from the rollers' geometry")
+    main_bearing_balls: int | None = Field(None, ge=6, le=500, description="main bearings (angular-contact ball "
+                                                                          "pair, back to back): balls per row [-]")
+    main_bearing_ball_diameter_mm: float | None = Field(None, gt=0, le=100, description="main bearings: ball "
+                                                                                        "diameter D_w [mm]")
+    main_bearing_pitch_diameter_mm: float | None = Field(None, gt=0, le=5000, description="main bearings: pitch "
+                                                                                          "diameter D_pw [mm]")
+    main_bearing_contact_angle_deg: float | None = Field(None, gt=0, lt=90, description="main bearings: nominal "
+                                                                                       "contact angle [deg]")
+    main_bearing_row_spread_mm: float | None = Field(
+        None, gt=0, le=5000, description="main bearings: axial distance between the two rows' ball centres [mm]")
+    main_bearing_preload_n: float | None = Field(None, ge=0, le=1e7, description="main bearings: axial preload "
+                                                                                 "between the rows [N]")
+    main_bearing_groove_ratio_inner: float = Field(0.52, gt=0.5, le=0.6, description="main bearings: inner "
+                                                   "groove radius / D_w [-] (ISO 281's assumption: <= 0.52)")
+    main_bearing_groove_ratio_outer: float = Field(0.53, gt=0.5, le=0.6, description="main bearings: outer "
+                                                   "groove radius / D_w [-] (ISO 281's assumption: <= 0.53)")
+
     disc_translation: Literal["across", "full", "none"] = Field(
         "across", description="each disc's sideways motion on its needle bearings: across (across the eccentric, the "
                               "pins' resultant's torque-carrying part: closed form, no cost), full (also along the "
@@ -225,6 +259,7 @@ class StructureInputs(_Strict):
                 if getattr(self, name) is not None:
                     raise InputError(name, getattr(self, name), "allowed only with disc_pillar_hole_diameter_mm (the "
                                                                 "disc bodies' finite elements read the holes together)")
+        _check_main_bearings(self)
         lo, hi = ROLLER_ASPECT
         dw, lw = self.support_bearing_roller_diameter_mm, self.support_bearing_roller_length_mm
         if not lo * dw <= lw <= hi * dw:
@@ -233,6 +268,35 @@ class StructureInputs(_Strict):
                              f"support_bearing_roller_diameter_mm = {dw:g}): Palmgren's line-contact law is for "
                              f"bearing rollers")
         return self
+
+
+MAIN_BEARING_FIELDS = ("main_bearing_balls", "main_bearing_ball_diameter_mm", "main_bearing_pitch_diameter_mm",
+                       "main_bearing_contact_angle_deg", "main_bearing_row_spread_mm", "main_bearing_preload_n")
+
+
+def has_main_bearings(structure: StructureInputs | None) -> bool:
+    """Whether the design gives its main bearings (all of MAIN_BEARING_FIELDS; docs/capacity.md)."""
+    return structure is not None and all(getattr(structure, name) is not None for name in MAIN_BEARING_FIELDS)
+
+
+def _check_main_bearings(st: StructureInputs) -> None:
+    """The main bearings' fields: all or none; balls that fit on their pitch circle (Z D_w < pi D_pw:
+    a ball bearing, not overlapping balls) and a ball small against its pitch circle (D_w < D_pw / 3,
+    the f_c table's range)."""
+    given = [n for n in MAIN_BEARING_FIELDS if getattr(st, n) is not None]
+    if not given:
+        return
+    missing = [n for n in MAIN_BEARING_FIELDS if getattr(st, n) is None]
+    if missing:
+        raise InputError(missing[0], None, f"the main bearings need all of {', '.join(MAIN_BEARING_FIELDS)} "
+                                           f"(given: {', '.join(given)}); allowed: all or none")
+    z, dw, dp = st.main_bearing_balls, st.main_bearing_ball_diameter_mm, st.main_bearing_pitch_diameter_mm
+    if not z * dw < math.pi * dp:
+        raise InputError("main_bearing_balls", z, f"{z} balls of {dw:g} mm do not fit on a {dp:g} mm pitch circle; "
+                                                  f"allowed: < pi D_pw / D_w = {math.pi * dp / dw:.4g}")
+    if not dw < dp / 3.0:
+        raise InputError("main_bearing_ball_diameter_mm", dw, f"allowed: < main_bearing_pitch_diameter_mm / 3 = "
+                                                              f"{dp / 3.0:.4g} mm (a ball bearing's proportions)")
 
 
 def _ratio(field: str, size: float, length_field: str, length: float, what: str,
@@ -306,8 +370,8 @@ def _rectangle_distance_mm(x: float, y: float, angle_rad: float, radius_mm: floa
 
 def _check_carrier_seats(design, st: StructureInputs) -> None:
     """The FE carrier's support-bearing seats (bores of support_bearing_seat_diameter_mm on the crank
-    circle, one per crank in each plate; pillars half a crank pitch from the cranks, as
-    mechanics/carrier_body.py builds them) inside the plates with walls of MIN_WALL_MM to the
+    circle, one per crank in each plate; pillars where geometry/carrier_layout.py places them, as
+    mechanics/carrier_mesh.py builds them) inside the plates with walls of MIN_WALL_MM to the
     outline, the central hole, each other and the pillars, and larger than the crankshaft's
     journal (the bearing's bore)."""
     s1, s3 = design.first_stage, design.crank_stage
@@ -319,10 +383,9 @@ def _check_carrier_seats(design, st: StructureInputs) -> None:
         limits["the central hole"] = 2.0 * (a0 - 0.5 * st.carrier_bore_diameter_mm - MIN_WALL_MM)
     if cranks > 1:
         limits["the next seat"] = 2.0 * a0 * math.sin(math.pi / cranks) - MIN_WALL_MM
-    gaps = [_rectangle_distance_mm(a0 * math.cos(2 * math.pi * j / cranks), a0 * math.sin(2 * math.pi * j / cranks),
-                                   2 * math.pi * (i + 0.5) / st.carrier_pillars, st.pillar_radius_mm,
+    gaps = [_rectangle_distance_mm(a0 * math.cos(crank), a0 * math.sin(crank), pillar, st.pillar_radius_mm,
                                    st.pillar_depth_mm, st.pillar_width_mm)
-            for j in range(cranks) for i in range(st.carrier_pillars)]
+            for crank in crank_angles_rad(cranks) for pillar in pillar_angles_rad(cranks, st.carrier_pillars)]
     limits["the pillars"] = 2.0 * (min(gaps) - MIN_WALL_MM)
     binding = min(limits, key=limits.get)
     journal = st.crankshaft_diameter_mm

@@ -4,17 +4,20 @@ the design's checks (design/structure.py) and the disc's finite elements (mechan
 read the same layout.
 
 Frame: the disc frame of geometry/cycloid.py (origin at the disc's centre, turned with the disc).
-Crank k's bore sits on the crank circle a0 at 2 pi k / P, as the carrier's crank seats in
-models/kinematics.py (``crank_fit``: hole k at R_c (cos 2 pi k / P, sin 2 pi k / P)); the pillars
-sit between the cranks, pillar k at pi / P + 2 pi k / n_p (rv80e: three pillars, 60 degrees from
-the cranks, design/structure.py). Disc d's frame is turned against the carrier by
-2 pi d / (discs z_c) (its orientation is -chi_d / z_c): its holes are at those angles plus that.
+The holes stand where the carrier's cranks and pillars stand (geometry/carrier_layout.py, the one
+placement the carrier's body reads too): crank k's bore on the crank circle a0 at 2 pi k / n_c, as
+the carrier's crank seats in models/kinematics.py (``crank_fit``); pillar k's hole at
+pi / lcm(n_c, n_p) + 2 pi k / n_p (rv80e: three pillars, 60 degrees from the cranks). Disc d's frame
+is turned against the carrier by 2 pi d / (discs z_c) (its orientation is -chi_d / z_c): its holes
+are at those angles plus that.
 """
 
 from __future__ import annotations
 
 import math
 from typing import NamedTuple
+
+from rvbacklash.geometry.carrier_layout import crank_angle_rad, pillar_angle_rad
 
 
 class Hole(NamedTuple):
@@ -53,11 +56,11 @@ def disc_holes(cranks: int, crank_circle_radius_mm: float, bore_diameter_mm: flo
     and the centre hole if given; all turned by ``turn_rad`` (disc d: 2 pi d / (discs z_c))."""
     holes = []
     for k in range(cranks):
-        angle = turn_rad + 2.0 * math.pi * k / cranks
+        angle = turn_rad + crank_angle_rad(k, cranks)
         holes.append(Hole(crank_circle_radius_mm * math.cos(angle), crank_circle_radius_mm * math.sin(angle),
                           0.5 * bore_diameter_mm, "crank_bore", bore_field))
     for k in range(pillars):
-        angle = turn_rad + math.pi / cranks + 2.0 * math.pi * k / pillars
+        angle = turn_rad + pillar_angle_rad(k, cranks, pillars)
         holes.append(Hole(pillar_hole_radius_mm * math.cos(angle), pillar_hole_radius_mm * math.sin(angle),
                           0.5 * pillar_hole_diameter_mm, "pillar_hole", "structure.disc_pillar_hole_diameter_mm"))
     if centre_hole_diameter_mm is not None:

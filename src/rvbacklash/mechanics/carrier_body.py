@@ -3,7 +3,8 @@ design (docs/rigidity-elements.md).
 
 **Body** (``carrier_mesh``): the output flange, the pillars and the end plate fused into one
 solid with the support bearings' seats bored in both plates; quadratic tetrahedra in scikit-fem
-(``solid``), one cyclic sector when the pillars are as many as the cranks.
+(``solid``), one cyclic sector when the pillars repeat with the cranks (``carrier_mesh.sectors``),
+else the whole body.
 
 **Supports.** The flange's outer face z = 0, where the load is bolted on the bench, is held
 (all displacements zero).
@@ -46,7 +47,9 @@ from rvbacklash.mechanics.fe_cache import cached
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
 
-MODEL_VERSION = 1
+# 2: the pillars placed by geometry/carrier_layout.py, sectors for two cranks and for pillars a multiple of the
+# cranks (issue 36): a result of version 1 is another body or another mesh
+MODEL_VERSION = 2
 
 
 @dataclass(frozen=True)

@@ -3,11 +3,11 @@ its dimensions (``CarrierGeometry``) and its gmsh mesh (``build_mesh``).
 
 z along the reducer's axis. The output flange is a plate z = 0 ... t_f (outer diameter D,
 central hole d_b); the pillars (n_p, tangential width w, radial depth h, free length L, centred
-on the radius R_p half a crank pitch from the cranks) stand on it up to the end plate, z = t_f +
+on the radius R_p between the cranks, geometry/carrier_layout.py) stand on it up to the end plate, z = t_f +
 L ... t_f + L + t_e (same outline). Both plates have a through bore of the support bearings'
-outer diameter D_s at each crank, on the crank circle a0: the seats. One fused OCC solid; with as
-many pillars as cranks only one sector of it is meshed (``sectors``), its two cut faces alike so
-that the solver can tie them (``solid.sector_tie``).
+outer diameter D_s at each crank, on the crank circle a0: the seats. One fused OCC solid; when the
+pillars repeat with the cranks only one sector of it is meshed (``sectors``), its two cut faces
+alike so that the solver can tie them (``solid.sector_tie``), else the whole body.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvbacklash.errors import InputError
+from rvbacklash.geometry import carrier_layout as layout
 from rvbacklash.mechanics import solid
 
 MESH_ELEMENTS_PER_SECTION = 1.6  # quadratic tetrahedra across the thinner plate, and the pillars' thinner side
@@ -29,8 +30,9 @@ ON_SURFACE_MM = 1e-6  # a mesh vertex this close to a surface lies on it (gmsh p
 
 @dataclass(frozen=True)
 class CarrierGeometry:
-    """Dimensions of the carrier [mm] (module docstring). Cranks at angles 2 pi j / cranks, pillars
-    at 2 pi (i + 1/2) / pillars (between the cranks)."""
+    """Dimensions of the carrier [mm] (module docstring). Cranks and pillars where
+    geometry/carrier_layout.py places them (the discs' holes read the same placement): cranks at
+    2 pi j / cranks, pillars at pi / lcm(cranks, pillars) + 2 pi i / pillars (between the cranks)."""
 
     flange_thickness_mm: float
     end_plate_thickness_mm: float
@@ -47,11 +49,11 @@ class CarrierGeometry:
 
     @property
     def crank_angles_rad(self) -> np.ndarray:
-        return 2.0 * np.pi * np.arange(self.cranks) / self.cranks
+        return np.array(layout.crank_angles_rad(self.cranks))
 
     @property
     def pillar_angles_rad(self) -> np.ndarray:
-        return 2.0 * np.pi * (np.arange(self.pillars) + 0.5) / self.pillars
+        return np.array(layout.pillar_angles_rad(self.cranks, self.pillars))
 
     @property
     def height_mm(self) -> float:
@@ -70,10 +72,13 @@ class CarrierGeometry:
 
 
 def sectors(geometry: CarrierGeometry) -> int:
-    """How many equal sectors the carrier is made of: n when the pillars and cranks are equally
-    many (each sector: one crank's seats and half of each neighbouring pillar), else 1 (the whole
-    body is meshed)."""
-    return geometry.cranks if geometry.cranks == geometry.pillars and geometry.cranks > 1 else 1
+    """How many equal sectors the carrier is made of: n_c when the pillars repeat with the cranks
+    (n_p a multiple of n_c, placed by geometry/carrier_layout.py: each sector holds one crank's
+    seats and the pillars, or pillar halves, about it; rv80e: 3), two cranks included (the two cut
+    faces then lie in one plane, on either side of the axis: ``_periodic_faces``); else 1 (the
+    whole body is meshed, e.g. 3 cranks and 4 pillars)."""
+    g = geometry
+    return g.cranks if g.cranks > 1 and g.pillars % g.cranks == 0 else 1
 
 
 def build_mesh(geometry: CarrierGeometry, refinement: float, n: int):
@@ -124,15 +129,19 @@ def build_mesh(geometry: CarrierGeometry, refinement: float, n: int):
 
 
 def _periodic_faces(gmsh, n: int) -> None:
-    """Mesh the sector's face at +pi/n as the copy of the one at -pi/n turned by 2 pi/n."""
+    """Mesh the sector's face at +pi/n as the copy of the one at -pi/n turned by 2 pi/n. A cut face
+    lies in the plane through the axis at its angle, on the side its angle points to: for n = 2 both
+    cut faces lie in one plane (the halves y < 0 and y > 0 of x = 0), told apart by that side alone."""
     def faces(angle):
         normal = (-math.sin(angle), math.cos(angle))
+        along = (math.cos(angle), math.sin(angle))
         found = {}
         for _, tag in gmsh.model.getEntities(2):
             low, high = gmsh.model.getParametrizationBounds(2, tag)
             nx, ny, _ = gmsh.model.getNormal(tag, [0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1])])
             cx, cy, cz = gmsh.model.occ.getCenterOfMass(2, tag)
-            if abs(abs(nx * normal[0] + ny * normal[1]) - 1.0) < 1e-9 and abs(cx * normal[0] + cy * normal[1]) < 1e-6:
+            if abs(abs(nx * normal[0] + ny * normal[1]) - 1.0) < 1e-9 and abs(cx * normal[0] + cy * normal[1]) < 1e-6 \
+                    and cx * along[0] + cy * along[1] > 0.0:
                 found[tag] = (cx, cy, cz)
         return found
 

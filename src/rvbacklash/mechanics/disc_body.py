@@ -130,15 +130,16 @@ class DiscBodyResult:
 
 def pin_load(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray) -> PinLoad:
     """The pins' normal forces on ``disc`` at crank angle ``chi_rad`` as contact points and force
-    vectors in the disc's frame (module docstring). ``force_n``: (z_p,) magnitudes [N] (>= 0, 0 for
-    an open pin), the chain's per-pin normal forces."""
+    vectors in the disc's frame (module docstring). ``force_n``: (z_p,) the chain's per-pin normal
+    forces [N] (0 for an open pin), signed along the pin's push: a change of load may unload a pin
+    (< 0; ``models.elastic.bodies.disc_load_n``: a preloaded unit's opposite pins)."""
     g = problem.cycloid
     force = np.asarray(force_n, float)
-    if force.shape != (g.zp,) or not np.all(np.isfinite(force)) or np.any(force < 0):
-        raise InputError("pin_forces_n", force.shape if force.shape != (g.zp,) else force.min(),
-                         f"allowed: {g.zp} finite forces >= 0 [N] per disc (one per pin)")
+    if force.shape != (g.zp,) or not np.all(np.isfinite(force)):
+        raise InputError("pin_forces_n", force.shape if force.shape != (g.zp,) else "not finite",
+                         f"allowed: {g.zp} finite forces [N] per disc (one per pin)")
     chi_d = g.disc_crank_angle(chi_rad, disc)
-    j = np.flatnonzero(force > 0)
+    j = np.flatnonzero(force != 0)
     t = chi_d - g.pin_angles[j] + 2 * math.pi * j
     curve = PinCentreCurve(g.a_mm, g.rp_mm, g.zc)
     n = curve.outward_normal(t)
@@ -236,8 +237,9 @@ def disc_body_compliance(problem: Problem, chi_rad: float, pin_forces_n: np.ndar
                          bearing_stiffness_n_per_um: float, *, disc: int | None = None,
                          mesh: MeshSize = MeshSize()) -> DiscBodyResult:
     """The disc bodies' compliance C_disc [rad/(N m)] and the cranks' load shares at crank angle
-    ``chi_rad``, loaded by ``pin_forces_n`` ((discs, z_p) normal force magnitudes [N], 0 for open
-    pins) and held by needle bearings of secant stiffness ``bearing_stiffness_n_per_um`` [N/um] each.
+    ``chi_rad``, loaded by ``pin_forces_n`` ((discs, z_p) normal forces [N], 0 for open pins; signed:
+    a load's change may unload a pin, ``pin_load``) and held by needle bearings of secant stiffness
+    ``bearing_stiffness_n_per_um`` [N/um] each.
 
     ``disc``: None (default) computes every loaded disc and combines them as the chain has them, in
     parallel: C_disc = n / sum_d (1 / C_d) (n the design's discs, the sum over the loaded ones), so
@@ -254,8 +256,8 @@ def disc_body_compliance(problem: Problem, chi_rad: float, pin_forces_n: np.ndar
         raise InputError("bearing_stiffness_n_per_um", bearing_stiffness_n_per_um, "allowed: > 0 [N/um]")
     if disc is not None and not (isinstance(disc, int) and 0 <= disc < g.discs):
         raise InputError("disc", disc, f"allowed: None (every disc) or 0 to {g.discs - 1}")
-    chosen = [disc] if disc is not None else [d for d in range(g.discs) if np.any(forces[d] > 0)]
-    if not chosen or not all(np.any(forces[d] > 0) for d in chosen):
+    chosen = [disc] if disc is not None else [d for d in range(g.discs) if np.any(forces[d] != 0)]
+    if not chosen or not all(np.any(forces[d] != 0) for d in chosen):
         raise InputError("pin_forces_n", 0.0, "allowed: at least one loaded pin on the disc(s) computed")
     results = [_one_disc(problem, float(chi_rad), d, forces[d], float(bearing_stiffness_n_per_um), mesh)
                for d in chosen]
@@ -423,7 +425,7 @@ def _solve(problem: Problem, chi_rad: float, disc: int, force_n: np.ndarray, bea
         crank_reactions_n=tuple(float(x) for x in np.hypot(flexible_reactions[:, 0], flexible_reactions[:, 1])),
         rigid_crank_reactions_n=tuple(float(x) for x in np.hypot(rigid_reactions[:, 0], rigid_reactions[:, 1])),
         disc_compliances_rad_per_nm=(compliance,), discs=(disc,), chi_rad=float(chi_rad),
-        loaded_pins=int(np.count_nonzero(np.asarray(force_n) > 0)), nodes=int(m.p.shape[1] + m.facets.shape[1]),
+        loaded_pins=int(np.count_nonzero(np.asarray(force_n))), nodes=int(m.p.shape[1] + m.facets.shape[1]),
         elements=int(m.t.shape[1]), dofs=int(model.stiffness.shape[0]), zone_passes=passes_rigid + passes,
         spring_condition_number=cond, wall_time_s=time.perf_counter() - start)
 

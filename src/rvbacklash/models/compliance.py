@@ -520,8 +520,9 @@ def disc_translation_factor(crank_circle_radius_mm: float, disc_pitch_radius_mm:
     disc centre held: the ratio f. Source: ours (docs/elastic.md; equilibrium of a rigid disc on
     three springs, a closed form checked against a numeric 3-DOF solve in the tests).
     Parameters: a0 [mm], rho [mm]. Returns f [-] (RV-80E class: 1 + (42 / 58.5)^2 = 1.515).
-    Validity: three (or more, equally spaced) equal bearings, linear about the loaded state; the
-    dead band of the clearance is not widened by the translation."""
+    Validity: two or more equally spaced equal bearings (n of them: n k_b in every direction, n k_b
+    a0^2 in rotation, the same ratio), linear about the loaded state; the dead band of the clearance
+    is not widened by the translation."""
     return 1.0 + (crank_circle_radius_mm / disc_pitch_radius_mm) ** 2
 
 

@@ -26,7 +26,6 @@ from typing import NamedTuple
 
 from rvbacklash._numba import njit, njit_borrowing
 import numpy as np
-from scipy import optimize
 
 from rvbacklash.geometry.cycloid import ContactGeometry, PinCentreCurve, rotate
 from rvbacklash.models.unit_errors import Realization, unit_errors
@@ -720,7 +719,8 @@ def exact_disc_gaps(d, beta, chi, stage, unit, out):
 def kernel_play(g: ContactGeometry, r: Realization) -> MeshPlay:
     """The Monte-Carlo kernel's play of one unit at its exact crank angle (no crank-angle steps)."""
     coef = mesh_table(g, np.array([r.chi_rad]))[0]
-    p = stage_play(coef, g.stage_geometry, unit_errors(r), pin_gaps(g.discs, g.zp), stage_work(g.discs, g.zp))
+    p = stage_play(coef, g.stage_geometry, unit_errors(r), pin_gaps(g.discs, g.zp), stage_work(g.discs, g.zp),
+                   True)  # given, not the default: the kernels' compiled stage_play (contact_source.contact_block)
     return MeshPlay((), float(p.preload_um), g.pitch_radius_um, float(p.play_ccw_rad), float(p.play_cw_rad))
 
 
@@ -799,6 +799,8 @@ def _exact_root(f, start: float, step: float) -> float:
         lo, hi, step = hi, hi + step, 2 * step
     else:  # pragma: no cover - a cycloid stage always has pins on both sides
         raise ArithmeticError("exact play: no contact in this direction")
+    from scipy import optimize  # here: scipy.optimize costs a third of a second to import, and a run never needs it
+
     return optimize.brentq(f, *sorted((lo, hi)), xtol=1e-14, rtol=1e-12)
 
 
@@ -823,6 +825,8 @@ def exact_play(g: ContactGeometry, r: Realization) -> MeshPlay:
 
     def central(fn, guess: float) -> tuple[float, float]:
         """(beta, value) of the maximum of fn near guess (fn is concave near its maximum)."""
+        from scipy import optimize  # here, as in _exact_root
+
         width = 2.0 * max(abs(guess), 1.0 / scale)
         res = optimize.minimize_scalar(lambda b: -fn(b), bounds=(guess - width, guess + width), method="bounded",
                                        options={"xatol": 1e-14 + 1e-9 * abs(guess)})

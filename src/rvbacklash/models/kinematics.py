@@ -50,6 +50,7 @@ from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, 
                                       stage_play, stage_work)
 from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
+from rvbacklash.units import ARCMIN_PER_RAD
 
 ARCSEC_PER_RAD = 648000.0 / math.pi
 DEFAULT_POSITIONS = 1024  # output positions per revolution of one unit's curve: orders up to 512
@@ -318,7 +319,8 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
             for k in range(zc):
                 teeth[d, k] = teeth0[d, k] + turn * rp * 1e3
         if exact:
-            play = stage_play(coef[n], stage, placed, gaps, scratch.work)
+            play = stage_play(coef[n], stage, placed, gaps, scratch.work, exact)  # exact: True, not as a literal
+            #                                                       (contact_source.contact_block says why)
             free, ccw, cw, preload = not math.isnan(play.play_ccw_rad), play.play_ccw_rad, play.play_cw_rad, \
                 play.preload_um
         else:
@@ -468,6 +470,17 @@ def revolution_curve(g: ContactGeometry, r, positions: int, chi0_rad: float, kin
         theta, chis = output_positions(g, positions, chi0_rad)
         return theta, flank_positions(g, r, theta, chis, kin, exact)
     return table.theta_rad, flank_positions(g, r, table.theta_rad, table.chi_rad, kin, exact, table.coef)
+
+
+def lost_motion_arcmin(ccw_rad, cw_rad) -> np.ndarray:
+    """Lost motion at each output position [arcmin]: the gap between the two flanks' positions,
+    dtheta(theta) = theta_ccw(theta) - theta_cw(theta) [rad -> arcmin], the output turned
+    counter-clockwise and clockwise from theta until a flank touches (rigid, no load; 0 where the
+    stage is preloaded and both flanks sit at one position). The transmission model's "lost motion
+    at every output position" (analysis.transmission); a bench reads the same gap between the TE
+    of its two runs (analysis.bench, the upper run as ccw). Sun et al. (2014)'s lost motion is the
+    play at one position; valid for any flank positions of one unit at the same theta."""
+    return (np.asarray(ccw_rad) - np.asarray(cw_rad)) * ARCMIN_PER_RAD
 
 
 @dataclass(frozen=True)

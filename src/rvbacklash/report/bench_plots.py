@@ -1,7 +1,9 @@
 """Figures of measured units (docs/bench-data.md), as SVG text: each loop's samples and its
 averaged branches with the definitions drawn on it (the lost-motion readings at +-x T_R, the
 backlash at zero torque, the rigidity's secant), beside the design's nominal unit and its 5 % /
-95 % units; each TE curve and its spectrum by order; a calibration's before/after overlay."""
+95 % units; each TE curve and its spectrum by order (a unit's forward and backward runs in one
+colour, solid and dashed), its lost motion against output position beside the model's; a
+calibration's before/after overlay."""
 
 from __future__ import annotations
 
@@ -9,7 +11,7 @@ from typing import Sequence
 
 import numpy as np
 
-from rvbacklash.analysis.bench import BenchLoop, BenchTransmissionError
+from rvbacklash.analysis.bench import BenchLoop, BenchTransmissionError, BenchTwoRunTE
 from rvbacklash.analysis.loop_reading import angle_at, as_branches
 from rvbacklash.report.plots import BLUE, GREEN, GREY, RED, _svg, plt
 
@@ -90,17 +92,19 @@ def te_figure(units: Sequence[BenchTransmissionError]):
     return fig
 
 
-def draw_te(ax, sx, units: Sequence[BenchTransmissionError]) -> None:
+def draw_te(ax, sx, units: Sequence[BenchTransmissionError], styles: Sequence[tuple[str, str]] = ()) -> None:
+    """Each curve and its spectrum; ``styles``: (colour, line style) of each unit (default: a colour
+    each, solid)."""
     for k, u in enumerate(units):
-        color = UNIT_COLORS[k % len(UNIT_COLORS)]
+        color, ls = styles[k] if k < len(styles) else (UNIT_COLORS[k % len(UNIT_COLORS)], "-")
         order = np.argsort(u.output_angle_deg)
-        ax.plot(np.asarray(u.output_angle_deg)[order], np.asarray(u.te_arcsec)[order], color=color, lw=0.9,
+        ax.plot(np.asarray(u.output_angle_deg)[order], np.asarray(u.te_arcsec)[order], ls, color=color, lw=0.9,
                 label=f"{u.source}: TE p-p {u.te_peak_to_peak_arcsec:.2f} arcsec")
         spec = np.asarray(u.spectrum_amplitude_arcsec)
         m = np.arange(spec.size)
         top = max((s.order for s in u.leading_orders), default=10)
         show = m[1:min(spec.size, max(2 * top, 20) + 1)]
-        sx.vlines(show + 0.15 * k, 0, spec[show], color=color, lw=1.2)
+        sx.vlines(show + 0.15 * k, 0, spec[show], color=color, lw=1.2, linestyles="dashed" if ls != "-" else "solid")
         sx.axhline(u.spectrum_floor_arcsec, color=color, lw=0.6, ls=":")
     ax.set_xlabel("output angle [deg]")
     ax.set_ylabel("transmission error [arcsec]")
@@ -112,18 +116,56 @@ def draw_te(ax, sx, units: Sequence[BenchTransmissionError]) -> None:
     sx.grid(alpha=0.3)
 
 
-def bench_svg(result, nominal=None, others: Sequence = ()) -> str:
-    """SVG of a BenchResult: its loops (with the model's loops given) and its TE curves."""
+def draw_lost_motion(ax, units: Sequence[BenchTwoRunTE], te_model=None, first_color: int = 0) -> None:
+    """Each unit's lost motion against output position (the gap between its runs) and its mean;
+    the design's nominal unit's (``te_model``: a TransmissionErrorResult, rigid and unloaded)
+    dashed, the production run's 5-95 % band of the mean when the unit was placed."""
+    banded = False
+    for k, u in enumerate(units):
+        color = UNIT_COLORS[(first_color + k) % len(UNIT_COLORS)]
+        order = np.argsort(u.output_angle_deg)
+        ax.plot(np.asarray(u.output_angle_deg)[order], np.asarray(u.lost_motion_arcmin)[order], color=color, lw=0.9,
+                label=f"{u.source}: lost motion, mean {u.lost_motion_mean_arcmin:.4f} arcmin ({u.ccw_run} run above)")
+        ax.axhline(u.lost_motion_mean_arcmin, color=color, lw=0.8, ls=":")
+        for p in u.placement:
+            if p.figure == "lost_motion_mean_arcmin" and not banded:
+                ax.axhspan(p.predicted_q05, p.predicted_q95, color=GREY, alpha=0.15,
+                           label="the design's production run: mean lost motion, 5-95 %")
+                banded = True
+    if te_model is not None:
+        lm = np.asarray(te_model.lost_motion_arcmin)
+        ax.plot(te_model.output_angle_deg, lm, "--", color=GREY, lw=1.0,
+                label=f"model, {te_model.design_name} {te_model.unit} unit (rigid, no load): mean "
+                      f"{float(np.mean(lm)):.4f} arcmin")
+    ax.set_xlabel("output angle [deg]")
+    ax.set_ylabel("lost motion [arcmin]")
+    ax.set_title("lost motion against output position: backward minus forward TE (the upper run as the ccw flank), "
+                 "the transmission model's definition", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def bench_svg(result, nominal=None, others: Sequence = (), te_model=None) -> str:
+    """SVG of a BenchResult: its loops (with the model's loops given), its TE curves (each unit's
+    runs), the lost motion of units of two runs (with ``te_model``'s, a TransmissionErrorResult)."""
     loops = [u for u in result.units if isinstance(u, BenchLoop)]
     tes = [u for u in result.units if isinstance(u, BenchTransmissionError)]
-    rows = int(bool(loops)) + int(bool(tes))
-    fig, axes = plt.subplots(rows, 2, figsize=(10.0, 4.8 * rows), squeeze=False,
-                             gridspec_kw={"width_ratios": [1.35, 1.0]} if loops else None)
+    two = [u for u in result.units if isinstance(u, BenchTwoRunTE)]
+    rows = int(bool(loops)) + int(bool(tes or two)) + int(bool(two))
+    fig = plt.figure(figsize=(10.0, 4.8 * rows))
+    grid = fig.add_gridspec(rows, 2, width_ratios=[1.35, 1.0] if loops else [1.0, 1.0], hspace=0.75)
+    row = 0
     if loops:
-        draw_loops(fig, *axes[0], loops, nominal, others)
-    if tes:
-        draw_te(*axes[-1], tes)
-    fig.subplots_adjust(hspace=0.75)
+        draw_loops(fig, fig.add_subplot(grid[row, 0]), fig.add_subplot(grid[row, 1]), loops, nominal, others)
+        row += 1
+    if tes or two:
+        curves = list(tes) + [r for u in two for r in (u.forward, u.backward)]
+        styles = [(UNIT_COLORS[k % len(UNIT_COLORS)], "-") for k in range(len(tes))]
+        styles += [(UNIT_COLORS[(len(tes) + k) % len(UNIT_COLORS)], ls) for k in range(len(two)) for ls in ("-", "--")]
+        draw_te(fig.add_subplot(grid[row, 0]), fig.add_subplot(grid[row, 1]), curves, styles)
+        row += 1
+    if two:
+        draw_lost_motion(fig.add_subplot(grid[row, :]), two, te_model, first_color=len(tes))
     return _svg(fig)
 
 

@@ -3,7 +3,8 @@
 Linear: the stack-up's backlash (mean, mean + 3σ, the Monte-Carlo's 99.865 % and the yield);
 contact: the rigid lost motion of the exact cycloid-pin contact and the preloaded share; elastic:
 what the test bench reads (lost motion, backlash, torsional rigidity) and the yield against every
-spec given. Every number on a card is one of ``ReportData.key_numbers()`` (marked ``data-key``)
+spec given; transmission: the transmission error's peak-to-peak over an output revolution and the
+rigid lost motion at the reference position. Every number on a card is one of ``ReportData.key_numbers()`` (marked ``data-key``)
 so that the page and the JSON cannot disagree. A card with a yield appears only when its spec
 was given.
 """
@@ -35,9 +36,12 @@ class Card:
 
 MODEL_NAMES = {"linear": "linear model (Sun et al. 2014, Eq. (1)/(2))",
                "contact": "contact model (exact cycloid–pin contact, rigid parts; docs/contact.md)",
-               "elastic": "elastic model (the test bench's hysteresis loop; docs/elastic.md)"}
+               "elastic": "elastic model (the test bench's hysteresis loop; docs/elastic.md)",
+               "transmission": "transmission model (each unit of the contact model turned through one output "
+                               "revolution, rigid parts; docs/transmission-error.md)"}
 
-TITLES = {"linear": "Backlash of", "contact": "Rigid lost motion of", "elastic": "Test-bench figures of"}
+TITLES = {"linear": "Backlash of", "contact": "Rigid lost motion of", "elastic": "Test-bench figures of",
+          "transmission": "Transmission error of"}
 
 LEADS = {
     "linear": "lost motion at the output of an RV reducer, predicted from geometry and tolerances (model of Sun et "
@@ -50,10 +54,24 @@ LEADS = {
                "needle bearings, involute mesh, and the crankshafts, support bearings and carrier where the design "
                "gives them), and the share of units within spec. The linear stack-up below "
                "explains where the lost motion comes from.",
+    "transmission": "the angular transmission error of every unit of a production run over one output revolution "
+                    "(its peak-to-peak, the catalogue figure), and its rigid lost motion at the bench's reference "
+                    "position (the cycloid stage plus the involute and crank stages): each pin and tooth with its "
+                    "own errors, the gears' eccentricities and the crank holes' positions, the exact modified "
+                    "cycloid profile, no load. The linear stack-up below explains where the lost motion comes from.",
 }
 
 LABELS = {"lost_motion": "lost motion", "backlash": "backlash", "rigidity": "torsional rigidity",
-          "preload": "cycloid-stage preload", "backlash_free": "backlash of the free units"}
+          "preload": "cycloid-stage preload", "backlash_free": "backlash of the free units",
+          "transmission_error": "TE peak-to-peak", "lost_motion_max": "largest rigid lost motion"}
+# what an output is called on this model's cards where the shared name would mislead
+MODEL_LABELS = {("contact", "backlash"): "rigid lost motion",
+                ("transmission", "backlash"): "rigid lost motion (reference position)"}
+
+
+def label(model: str, name: str) -> str:
+    """An output's name on the first screen of a report of ``model``."""
+    return MODEL_LABELS.get((model, name), LABELS.get(name, name.replace("_", " ")))
 
 
 def model_name(model: str) -> str:
@@ -74,6 +92,10 @@ def _measuring_pct(data) -> str:
     return f"{n.measuring_torque_fraction * 100:g} %" if n is not None else "3 %"
 
 
+# the short flag a card carries when its output has a warning (the warning itself is in the report's warnings)
+_FLAGS = {"lost_motion": "friction ≥ the measuring torque: this is the stick band's width, not the play (warnings)"}
+
+
 def _pct(key: str, value: float | None) -> Number:
     return Number(key, value, ".2f", "%", 100.0)
 
@@ -86,9 +108,10 @@ def _yield_cards(data, keys: dict) -> list[Card]:
             continue
         side = "≤" if o.spec_is_upper else "≥"
         ppm = f"; {o.ppm_out:.0f} ppm out" if o.ppm_out is not None else ""
-        cards.append(Card(f"yield, {LABELS.get(name, name)} {side} {o.spec_limit:g} {display_unit(o.unit)}",
+        flag = ("⚠ " + _FLAGS.get(name, "see the warnings above"),) if o.warning else ()
+        cards.append(Card(f"yield, {label(data.model, name)} {side} {o.spec_limit:g} {display_unit(o.unit)}",
                           _pct(key, keys[key]),
-                          (f"95 % CI {o.yield_.ci95_low * 100:.2f} – {o.yield_.ci95_high * 100:.2f} %{ppm}",)))
+                          (f"95 % CI {o.yield_.ci95_low * 100:.2f} – {o.yield_.ci95_high * 100:.2f} %{ppm}",) + flag))
     if "simulation.joint_yield" in keys:
         j = sim.joint_yield
         cards.append(Card("yield, every spec at once", _pct("simulation.joint_yield", keys["simulation.joint_yield"]),
@@ -108,7 +131,7 @@ def _linear_cards(data, keys: dict) -> list[Card]:
                ""),)),
         Card("99.865 % of units below", Number("simulation.q99865_arcmin", keys["simulation.q99865_arcmin"],
                                                unit="arcmin"),
-             (f"95 % CI {_f(q.ci95_low)} – {_f(q.ci95_high)}",)),
+             (f"95 % CI {q.interval_text('.3f', ' – ', '')}",)),
     ]
     if out.yield_ is not None and "simulation.yield" in keys:
         cpk = f"; Cpk {out.cpk:.2f}" if out.cpk is not None else ""
@@ -133,13 +156,18 @@ def _model_cards(data, keys: dict) -> list[Card]:
         fmt = ".0f" if unit == "N·m/arcmin" else ".3f"
         lower = name == "rigidity"
         tail = "simulation.%s.q%s" % (name, "00135" if lower else "99865")
-        label = {"lost_motion": f"mean lost motion (±{_measuring_pct(data)} T_R)", "backlash": "mean backlash (loop width at 0 N·m)",
-                 "rigidity": "mean torsional rigidity"}.get(name, f"mean {LABELS.get(name, name)}")
-        if data.model == "contact" and name == "backlash":
-            label = "mean rigid lost motion"
-        cards.append(Card(label, Number(f"simulation.{name}.mean", keys[f"simulation.{name}.mean"], fmt, unit),
+        if data.model == "elastic":
+            text = {"lost_motion": f"mean lost motion (±{_measuring_pct(data)} T_R)",
+                    "backlash": "mean backlash (loop width at 0 N·m)",
+                    "rigidity": "mean torsional rigidity"}.get(name, f"mean {label(data.model, name)}")
+        elif data.model == "transmission" and name == "transmission_error":
+            text = "mean TE peak-to-peak (one output revolution)"
+        else:
+            text = f"mean {label(data.model, name)}"
+        flag = ("⚠ " + _FLAGS.get(name, "see the warnings above"),) if o.warning else ()
+        cards.append(Card(text, Number(f"simulation.{name}.mean", keys[f"simulation.{name}.mean"], fmt, unit),
                           ((f"99.865 % of units {'above' if lower else 'below'} ", Number(tail, keys[tail], fmt, unit),
-                            ""),)))
+                            ""),) + flag))
     if data.model == "contact" and "simulation.preload_fraction" in keys:
         cards.append(Card("units with a preloaded cycloid stage",
                           _pct("simulation.preload_fraction", keys["simulation.preload_fraction"]),

@@ -34,6 +34,10 @@ def render_html(data: ReportData) -> str:
         extra.update(transmission=data.transmission, transmission_figures=transmission_figures(data.transmission))
     if data.sweep is not None:
         extra.update(sweep_section_context(data.sweep))
+    if data.capacity is not None:
+        from rvbacklash.report.capacity_plots import loads_svg
+
+        extra.update(capacity=data.capacity, capacity_figure=plots.inline_svg(loads_svg(data.capacity)))
     head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),
             "model_name": headline.model_name(data.model)}
     return env.get_template("report.html.j2").render(

@@ -25,6 +25,7 @@ from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.allocation import AllocationResult
 from rvbacklash.analysis.bench import BenchResult
 from rvbacklash.analysis.calibration import CalibrationResult
+from rvbacklash.analysis.capacity import CapacityResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
@@ -141,6 +142,10 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
               "each unit's figures under the hysteresis / transmission-error field names"),
     "calibrate": (_result(CalibrationResult),
                   "rvbacklash calibrate --json: the design's unknowns fitted to measured loops, with 95 % intervals"),
+    "capacity": (_result(CapacityResult),
+                 "rvbacklash capacity --json: the nominal unit's capacity and life: each bearing's load, rating and "
+                 "L10, the reducer's life, the derived rated torque, momentary maximum and acceleration torques, the "
+                 "main bearings, the loads over a revolution (issue 37)"),
     "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
                           "exact cycloid-pin geometry"),
 }

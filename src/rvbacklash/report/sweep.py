@@ -22,7 +22,7 @@ from rvbacklash.report.templating import environment
 
 MAX_TABLE_ROWS = 2000  # rows shown in the HTML table (the CSV and Parquet files hold all)
 UNITLESS = ("_yield", "_yield_ci95_low", "_yield_ci95_high", "_cp", "_cpk", "_ppm_out", "_negative_fraction",
-            "_samples")
+            "_samples", "_bounded")
 
 
 # --- choosing what to draw -----------------------------------------------------------------------

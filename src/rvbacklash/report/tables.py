@@ -99,18 +99,21 @@ def print_simulation(r: "SimulationResult", console: Console) -> None:
         if o.min is not None:
             t.add_row("min / max", f"{o.min:.4f} / {o.max:.4f}", "")
         for q in o.quantiles:
-            t.add_row(f"quantile {q.probability * 100:g} %", _f(q.value), _ci(q.ci95_low, q.ci95_high))
+            t.add_row(f"quantile {q.probability * 100:g} %", _f(q.value), escape(q.interval_text()))
         if o.yield_ is not None:
             y = o.yield_
             side = "<=" if o.spec_is_upper else ">="
-            t.add_row(escape(f"yield P({o.quantity} {side} {o.spec_limit:g} {unit})"), f"{y.fraction * 100:.4f} %",
-                      f"[{y.ci95_low * 100:.4f} %, {y.ci95_high * 100:.4f} %]")
+            flag = " [bold red](see warning)[/]" if o.warning else ""
+            t.add_row(escape(f"yield P({o.quantity} {side} {o.spec_limit:g} {unit})"), f"{y.fraction * 100:.4f} %"
+                      + flag, f"[{y.ci95_low * 100:.4f} %, {y.ci95_high * 100:.4f} %]")
             t.add_row("out of spec", f"{o.ppm_out:.1f} ppm", "")
             if o.cp is not None:
                 t.add_row("Cp / Cpk (LSL 0, USL spec)", f"{_f(o.cp, '.3f')} / {_f(o.cpk, '.3f')}", "")
         if r.model == "linear" and o.negative_fraction is not None:
             t.add_row("P(backlash < 0): interference", f"{o.negative_fraction * 100:.4f} %", "")
         console.print(t)
+        if o.warning:
+            console.print(f"[bold red]warning ({escape(o.quantity)}):[/] {escape(o.warning)}")
     if r.joint_yield is not None:
         y = r.joint_yield
         console.print(f"joint yield (every spec at once): {y.fraction * 100:.4f} % "

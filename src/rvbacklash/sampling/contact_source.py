@@ -103,9 +103,11 @@ def contact_block(streams, laws, stage, coef, out, saved):
     scratch = draw_scratch(stage.zp, stage.zc)
     gaps, work = pin_gaps(stage.discs, stage.zp), stage_work(stage.discs, stage.zp)
     steps = coef.shape[0]
+    play_too = steps > 0  # True, not as a literal: the elastic model's compiled stage_play serves (a literal
+    #                       True, or the default, compiles a copy of that large function of its own)
     for s in range(out.shape[1]):
         drawn = draw_unit(streams, laws, steps, unit, scratch)
-        play = stage_play(coef[drawn.crank_step], stage, unit, gaps, work)
+        play = stage_play(coef[drawn.crank_step], stage, unit, gaps, work, play_too)
         lin, cycloid = drawn.linear_arcmin, recorded_stage(play)
         if math.isnan(play.play_ccw_rad):  # preloaded: the stage adds no play
             out[0, s] = lin

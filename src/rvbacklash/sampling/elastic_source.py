@@ -26,8 +26,10 @@ import numpy as np
 from rvbacklash._numba import njit
 from rvbacklash.errors import InputError
 from rvbacklash.factors.catalog import FACTOR_KEYS
+from rvbacklash.interrupt import check_abandoned
 from rvbacklash.models.contact import PinGaps, crank_step_angle_rad, recorded_stage, stage_play, stage_work
 from rvbacklash.models.elastic import ElasticModel, LoopDesign, elastic_model, evaluate_units, loop_design, pin_law_table
+from rvbacklash.models.elastic.unit_life import LIFE_OUTPUTS, LifeTables, evaluate_units_life
 from rvbacklash.models.unit_errors import empty_unit
 from rvbacklash.problem import Problem
 from rvbacklash.sampling.contact_source import (BLOCK_UNITS, CRANK_STEPS, PRELOAD_OUTPUT, ContactBlockSource,
@@ -40,7 +42,26 @@ from rvbacklash.sampling.unit_draw import CRANK_CLEARANCE, draw_scratch, draw_un
 from rvbacklash.units import ARCMIN_PER_RAD
 
 
-def elastic_outputs(model: ElasticModel) -> tuple[Output, ...]:
+# the life outputs (issue 37; models/elastic/unit_life.py, docs/capacity.md), after the four above, when asked for
+LIFE_OUTPUT_DEFS = (
+    Output("life", "h", "reducer L10 at the rated torque and output speed (its bearings as a system; each unit read at "
+                        "its crank angle against the nominal unit's revolution)", upper_limit=False,
+           hint_range=(0.0, 2e4)),
+    Output("weakest_bearing_life", "h", "L10 of the unit's weakest bearing at the rated torque and speed",
+           upper_limit=False, hint_range=(0.0, 1e5)),
+    Output("rated_torque", "nm", "derived rated torque: the reducer's L10 = the rated life at the rated output speed",
+           upper_limit=False, hint_range=(0.0, 2000.0)),
+    Output("max_pin_stress", "mpa", "largest pin-flank Hertz pressure at the rated torque (the unit's crank angle)",
+           hint_range=(0.0, 3000.0)),
+)
+
+
+def elastic_outputs(model: ElasticModel, life: bool = False) -> tuple[Output, ...]:
+    """The elastic model's outputs; with ``life``, the life outputs after them (LIFE_OUTPUT_DEFS)."""
+    return _precision_outputs(model) + (LIFE_OUTPUT_DEFS if life else ())
+
+
+def _precision_outputs(model: ElasticModel) -> tuple[Output, ...]:
     x = model.chain.measuring_fraction
     lo, hi = model.chain.rigidity_low, model.chain.rigidity_high
     return (
@@ -124,12 +145,22 @@ def draw_units(source: ContactBlockSource, streams: np.ndarray, n: int, saved: S
     return batch
 
 
-def evaluate_batch(design: LoopDesign, units: UnitBatch) -> np.ndarray:
+def evaluate_batch(design: LoopDesign, units: UnitBatch, life: LifeTables | None = None) -> np.ndarray:
     """(4, n): lost motion [arcmin], backlash [arcmin], rigidity [N m/arcmin], preload [um] (NaN
-    when free) of every unit, with the design's LoopDesign (``loop_design``)."""
-    out = np.empty((N_OUTPUTS, units.chi_rad.size))
-    evaluate_units(units, design, out[:3])
+    when free) of every unit, with the design's LoopDesign (``loop_design``); with ``life``
+    (LifeTables), (4 + LIFE_OUTPUTS, n): the life outputs after them (``unit_life.evaluate_units_life``)."""
+    n = units.chi_rad.size
+    if life is None:
+        out = np.empty((N_OUTPUTS, n))
+        evaluate_units(units, design, out[:3])
+        out[3] = units.preload_um
+        return out
+    out = np.empty((N_OUTPUTS + LIFE_OUTPUTS, n))
+    figures = np.empty((3 + LIFE_OUTPUTS, n))
+    evaluate_units_life(units, design, life, figures)
+    out[:3] = figures[:3]
     out[3] = units.preload_um
+    out[N_OUTPUTS:] = figures[3:]
     return out
 
 
@@ -144,17 +175,27 @@ class ElasticBlockSource:
     outputs: tuple[Output, ...]
     save_units: int = 0
     block_size: int = BLOCK_UNITS
+    life: LifeTables | None = None  # the life outputs' tables (None: none asked for)
+
+    @property
+    def output_warnings(self) -> dict[str, str]:
+        """What an output's figures need said beside them, by output (simulation.simulate reads it):
+        the lost motion read in the stick band when friction reaches x T_R (docs/elastic.md)."""
+        from rvbacklash.models.elastic.chain import stick_band_warning
+
+        w = stick_band_warning(self.model.chain)
+        return {"lost_motion": w} if w else {}
 
     def block(self, b: int, n: int) -> np.ndarray:
-        """(4, n) outputs of block b (``elastic_outputs``)."""
+        """(4, n) outputs of block b (``elastic_outputs``; with life, 4 + LIFE_OUTPUTS)."""
         c = self.contact
         streams = block_streams(c.seed, b, c.stream, c.swap, c.swap_stream)
-        out = np.empty((N_OUTPUTS, n))
+        out = np.empty((len(self.outputs), n))
         keep = units_to_save(self.save_units, self.block_size, b, n)
         saved = saved_units(keep, c.geometry)
 
         def evaluate(start: int, units: UnitBatch) -> None:
-            out[:, start:start + units.chi_rad.size] = evaluate_batch(self.design, units)
+            out[:, start:start + units.chi_rad.size] = evaluate_batch(self.design, units, self.life)
 
         def draw(start: int, m: int) -> UnitBatch:
             return draw_units(c, streams, m, saved_slice(saved, start, start + m) if start < keep else None)
@@ -173,7 +214,7 @@ class ElasticBlockSource:
 
 
 def elastic_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
-                   save_units: int = 0) -> ElasticBlockSource:
+                   save_units: int = 0, life: LifeTables | None = None) -> ElasticBlockSource:
     if method != "default":
         raise InputError("method", method, "allowed with model 'elastic': default")
     if problem.correlated:
@@ -181,8 +222,8 @@ def elastic_source(problem: Problem, method: str, seed: int, stream: tuple[int, 
                                                  "remove [correlation] or use the linear model")
     model = elastic_model(problem)
     contact = contact_source(problem, "default", seed, stream)
-    return ElasticBlockSource(contact, model, loop_design(model, design_pin_laws(model)), elastic_outputs(model),
-                              int(save_units))
+    return ElasticBlockSource(contact, model, loop_design(model, design_pin_laws(model)),
+                              elastic_outputs(model, life is not None), int(save_units), life=life)
 
 
 def design_pin_laws(model: ElasticModel) -> np.ndarray:
@@ -212,12 +253,16 @@ class ElasticStreams:
 
     def block(self, generators, n: int) -> np.ndarray:
         streams = states_from_generators(generators)
-        out = np.empty((N_OUTPUTS, n))
+        out = np.empty((len(self.source.outputs), n))
         for start in range(0, n, CHUNK):
+            check_abandoned()  # a workbench job's stop drops the block between two chunks
             m = min(CHUNK, n - start)
-            out[:, start:start + m] = evaluate_batch(self.source.design, draw_units(self.source.contact, streams, m))
+            out[:, start:start + m] = evaluate_batch(self.source.design, draw_units(self.source.contact, streams, m),
+                                                     self.source.life)
         return out
 
 
-def elastic_streams(problem: Problem) -> ElasticStreams:
-    return ElasticStreams(elastic_source(problem, "default", 0), tuple(bool(x) for x in problem.random_mask) + (True,))
+def elastic_streams(problem: Problem, life: LifeTables | None = None) -> ElasticStreams:
+    """The elastic model for global sensitivity; with ``life`` (LifeTables) its life outputs too."""
+    return ElasticStreams(elastic_source(problem, "default", 0, life=life),
+                          tuple(bool(x) for x in problem.random_mask) + (True,))

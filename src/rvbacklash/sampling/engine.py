@@ -25,6 +25,7 @@ the same blocks.
 
 from __future__ import annotations
 
+import contextvars
 import math
 import threading
 import time
@@ -36,7 +37,7 @@ from typing import Callable, Protocol
 import numpy as np
 from numpy.random import PCG64, Generator, SeedSequence
 
-from rvbacklash.interrupt import stop_requested
+from rvbacklash.interrupt import check_abandoned, stop_requested
 from rvbacklash.sampling import fast_normals, kernels
 from rvbacklash.sampling.inputs import InputTransform, linear_fast_plan
 
@@ -251,7 +252,10 @@ def run_blocks(source: BlockSource, samples: int, limits: tuple[float, ...] | No
     upper = np.array([o.upper_limit for o in outs])
     sizes = block_sizes(samples, source_block_size(source))
     with stop_requested() as stop:  # from here on, Ctrl-C stops the run after the blocks under way
-        return _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
+        run = _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapshot, stop, t0)
+    if run.partial:
+        check_abandoned()  # a stop_on stop (a workbench job): nobody reads the partial run, nor what follows it
+    return run
 
 
 def histogram_bin(value: float, lo: float, scale: float) -> int:
@@ -304,14 +308,18 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
         """(its blocks, per block: each output's BlockSummary and the joint count; histograms (k, bins))
         of some blocks."""
         ys = []
-        for b in blocks:
-            y = source.block(b, sizes[b])
-            if b == 0:
-                try:
+        try:
+            for b in blocks:
+                if b > blocks.start and stop.is_set():  # a stop: the blocks drawn are kept, the rest not drawn
+                    blocks = range(blocks.start, b)
+                    break
+                y = source.block(b, sizes[b])
+                if b == 0:
                     set_frame(y)
-                finally:
-                    pilot_in.set()  # also on failure: no task waits forever
-            ys.append(y)
+                ys.append(y)
+        finally:
+            if blocks.start == 0:
+                pilot_in.set()  # also on failure (of the pilot, or a dropped block): no task waits forever
         pilot_in.wait()
         if not frame:
             raise RuntimeError("the pilot block failed")
@@ -372,8 +380,11 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
     in_flight = 2 * max(1, workers)
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
         try:
-            for blocks in queue:
-                pending.add(pool.submit(task, blocks))
+            for blocks in queue:  # (none when a stop came before the run: it does not start its work)
+                if stop.is_set():
+                    break
+                # a copy of this context each: a workbench job's stop reaches a block's chunks
+                pending.add(pool.submit(contextvars.copy_context().run, task, blocks))
                 if len(pending) >= in_flight:
                     break
             while pending and not stop.is_set():
@@ -383,13 +394,17 @@ def _run(source, sizes, limits_a, upper, workers, chunk_blocks, progress, snapsh
                     pending.discard(fut)
                     nxt = next(queue, None)
                     if nxt is not None and not stop.is_set():
-                        pending.add(pool.submit(task, nxt))
+                        pending.add(pool.submit(contextvars.copy_context().run, task, nxt))
                 if finished:
                     fold()
                     if progress is not None:
                         progress(finished_samples)
         except KeyboardInterrupt:  # raised by a callback, or outside the main thread
             stop.set()
+        except BaseException:  # a callback's own exception (a cancelled job): no queued task starts
+            for fut in pending:
+                fut.cancel()
+            raise
         if stop.is_set():
             for fut in pending:
                 fut.cancel()

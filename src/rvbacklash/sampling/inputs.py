@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special
 
 from rvbacklash.problem import Problem
 
@@ -51,6 +50,8 @@ class InputTransform:
             if self.normal_mask[col]:
                 x[:, idx] = self.means[col] + self.sigmas[col] * z[:, col]
             else:
+                from scipy import special  # here: only a non-normal marginal needs it (a third of a second to import)
+
                 x[:, idx] = dist.ppf(special.ndtr(z[:, col]))
         return x
 

@@ -21,15 +21,17 @@ harmonics, isotropy, the radial per-element scatter equal to the tangential one.
 
 from __future__ import annotations
 
-import math
+import dataclasses
 import functools
+import math
 from dataclasses import dataclass
 from statistics import NormalDist
 from typing import NamedTuple
 
-from rvbacklash._numba import njit
+from rvbacklash._numba import njit, source_hash
 import numpy as np
 
+from rvbacklash.mechanics.fe_cache import cached
 from rvbacklash.problem.contact_errors import IndexedPart
 
 SECOND_TO_FIRST = 0.5  # sigma of the second harmonic over the first's (ASSUMPTION)
@@ -115,7 +117,19 @@ def sample_parts(part: IndexedPart, h: HarmonicPart, normals: np.ndarray) -> tup
 
 @functools.lru_cache(maxsize=64)
 def calibrate(part: IndexedPart) -> HarmonicPart:
-    """The sigmas of ``part``'s long-wave model (module docstring)."""
+    """The sigmas of ``part``'s long-wave model (module docstring), computed once per machine: the
+    calibration (~70 samplings of CALIBRATION_PARTS parts, ~0.2 s a part) is kept in the disk
+    cache of ``mechanics.fe_cache``, keyed by the tolerances it reads, numpy's version (its random
+    stream) and the package's source (any change of the code computes it again).
+    ``_calibrate`` computes it."""
+    inputs = {"elements": part.elements, "cumulative_pitch_um": part.cumulative_pitch_um,
+              "single_pitch_um": part.single_pitch_um, "runout_um": part.runout_um,
+              "constants": [SECOND_TO_FIRST, TARGET_CONFORMITY, CALIBRATION_SINGLE, CALIBRATION_PARTS, CALIBRATION_SEED],
+              "numpy": np.__version__, "source": source_hash()}
+    return HarmonicPart(**cached("part-calibration", 1, inputs, lambda: dataclasses.asdict(_calibrate(part))))
+
+
+def _calibrate(part: IndexedPart) -> HarmonicPart:
     n = part.elements
     z = NormalDist().inv_cdf(1.0 - CALIBRATION_SINGLE / (2.0 * n))
     element = part.single_pitch_um / (math.sqrt(2.0) * z)

@@ -26,6 +26,7 @@ from numpy.random import SeedSequence
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import KINEMATIC_FACTORS
 from rvbacklash.errors import InputError
+from rvbacklash.interrupt import check_abandoned
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, Kinematics, PositionTable, curve_scratch,
                                           kinematics, position_table, reference_revolution, te_curve)
 from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, empty_units, realization_at, store_unit,
@@ -46,10 +47,11 @@ CHUNK = 256  # units drawn, then evaluated, at a time
 EVAL_THREADS = 2
 
 TE_OUTPUTS = (
-    Output("backlash", "arcmin", "output backlash (rigid lost motion) at the reference position, every unit; a "
-                                 "preloaded cycloid stage adds 0"),
+    Output("backlash", "arcmin", "output backlash (rigid lost motion) at the reference position, every unit: the "
+                                 "cycloid stage (0 when preloaded) plus the involute and crank stages"),
     Output("transmission_error", "arcsec", "transmission error peak-to-peak over one output revolution (ccw flank)"),
-    Output("lost_motion_max", "arcmin", "largest rigid lost motion over the output revolution"),
+    Output("lost_motion_max", "arcmin", "largest rigid lost motion over the output revolution: the cycloid stage's "
+                                        "largest plus the involute and crank stages"),
 )
 
 
@@ -219,9 +221,16 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
 def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = ()) -> list[Realization]:
     """The first n units of block 0 of a production run (the same numbers ``simulate`` draws) as
     Realizations at the reference position (crank angle 0), for one-unit curves."""
+    return sample_units_with_stages(problem, seed, n, stream)[0]
+
+
+def sample_units_with_stages(problem: Problem, seed: int, n: int,
+                             stream: tuple[int, ...] = ()) -> tuple[list[Realization], np.ndarray]:
+    """``sample_units`` and each unit's involute and crank stages [arcmin] (what the run adds to
+    the cycloid stage's lost motion: ``other_stages_arcmin``)."""
     src = transmission_source(problem, "default", seed, stream)
     batch = src._draw(te_streams(seed, 0, tuple(stream)), n)
-    return [realization_at(batch.units, s, 0.0) for s in range(n)]
+    return [realization_at(batch.units, s, 0.0) for s in range(n)], batch.linear_arcmin.copy()
 
 
 @dataclass(frozen=True, eq=False)
@@ -239,6 +248,7 @@ class TransmissionStreams:
         streams = states_from_generators(generators)
         out = np.empty((len(self.outputs), n))
         for start in range(0, n, CHUNK):
+            check_abandoned()  # a workbench job's stop drops the block between two chunks
             m = min(CHUNK, n - start)
             self.source._evaluate(self.source._draw(streams, m), out[:, start:start + m])
         return out

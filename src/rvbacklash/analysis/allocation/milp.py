@@ -22,7 +22,11 @@ moves checked with the exact distribution try cheaper neighbours ("verified, sur
 
 from __future__ import annotations
 
+import contextlib
 import itertools
+import os
+import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from statistics import NormalDist
@@ -48,6 +52,57 @@ MAX_OA_ITERATIONS = 1000
 # faster than the reporting grid (analysis.exact.GRID_POINTS) that gives the final yield
 SEARCH_GRID_POINTS = 1 << 16
 CALIBRATIONS, CALIBRATION_MARGIN = 6, 0.1  # surrogate recalibrations for non-normal outputs, and the margin in z
+
+
+# One solve at a time redirects the process's standard output (file descriptor 1): two
+# overlapping redirections (the workbench runs allocations in threads) would save each other's
+# /dev/null as "the real stdout" and lose it for good.
+_STDOUT_LOCK = threading.Lock()
+
+
+def _flush_c_stdio() -> None:
+    """Flush the C library's stdio buffers (what the solver printed, still buffered when fd 1 is
+    a pipe or a file, goes where fd 1 points now, not after it is restored)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError, TypeError):  # pragma: no cover - no C library to call (Windows)
+        pass
+
+
+@contextlib.contextmanager
+def solver_output_silenced():
+    """Send what the MILP solver writes to file descriptor 1 to the null device, and restore it
+    afterwards (also on an exception or Ctrl-C). HiGHS (scipy's bundled solver) prints debug
+    lines ("HighsMipSolverData::transformNewIntegerFeasibleSolution tmpSolver.run();", HiGHS
+    issue 2783) with printf whatever its output options say, past ``sys.stdout``: machine-readable
+    standard output (``--format json``) must not carry them. Only the solve is wrapped; a thread
+    writing to fd 1 meanwhile loses those bytes (the CLI writes its result after the solve; the
+    workbench answers over HTTP and logs to stderr)."""
+    with _STDOUT_LOCK:
+        try:
+            sys.stdout.flush()  # Python's own buffered text first, to the real stdout
+        except (AttributeError, ValueError, OSError):
+            pass
+        try:
+            saved = os.dup(1)
+        except OSError:  # no fd 1 (a closed stdout): nothing to protect
+            saved = None
+        if saved is None:
+            yield
+            return
+        try:
+            null = os.open(os.devnull, os.O_WRONLY)
+            try:
+                os.dup2(null, 1)
+            finally:
+                os.close(null)
+            yield
+        finally:
+            _flush_c_stdio()
+            os.dup2(saved, 1)
+            os.close(saved)
 
 
 class ExactYields:
@@ -175,8 +230,9 @@ class _Milp:
         if self.nogoods:
             rows = np.array([self.indicator(g) for g in self.nogoods])
             cons.append(LinearConstraint(rows, -np.inf, n_grp - 1.0))
-        res = milp(self.cost, integrality=np.ones(n_var), bounds=Bounds(0.0, 1.0), constraints=cons,
-                   options={"mip_rel_gap": 0.0, "presolve": True})
+        with solver_output_silenced():
+            res = milp(self.cost, integrality=np.ones(n_var), bounds=Bounds(0.0, 1.0), constraints=cons,
+                       options={"mip_rel_gap": 0.0, "presolve": True})
         if res.status == 2 or res.x is None:  # infeasible
             return None
         if res.status != 0:  # pragma: no cover - HiGHS limits

@@ -94,10 +94,13 @@ class _Runs:
                 self.runs += 1
                 if ev.partial:
                     self.interrupted = True
-                    continue
-                out[todo[i]] = ev
-                if self.progress is not None:
-                    self.progress(self.runs)
+                else:
+                    out[todo[i]] = ev
+                    if self.progress is not None:
+                        self.progress(self.runs)
+                if self.stop.is_set():  # a stop: no candidate queued behind this one starts
+                    self.interrupted = True
+                    break
         if self.stop.is_set():
             self.interrupted = True
         if stream == SEARCH_STREAM:
@@ -176,6 +179,13 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
     ch = grade_choices(problem)
     specs = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec) or None
     notes = list(ch.notes)
+    if model == "elastic" and problem.design.elastic is not None:  # friction and x T_R: the same for every grade
+        from rvbacklash.models.elastic import elastic_model
+        from rvbacklash.models.elastic.chain import stick_band_warning
+
+        said = stick_band_warning(elastic_model(problem).chain)
+        if said:
+            notes.append(f"lost motion: {said}")
     try:
         lin = solve_linear(ch, spec_arcmin, yield_target)
     except InputError:

@@ -83,14 +83,16 @@ function runBody() {
 
 // --- errors next to their control --------------------------------------------------------------
 
-function clearErrors() {
-  document.querySelectorAll("[data-field]").forEach((e) => e.classList.remove("invalid"));
-  document.querySelectorAll("[data-field] .err, #design-error, #run-error").forEach((e) => { e.textContent = ""; });
+function clearErrors(root = $("#controls"), extra = "#design-error, #run-error") {
+  root.querySelectorAll("[data-field]").forEach((e) => e.classList.remove("invalid"));
+  root.querySelectorAll("[data-field] .err").forEach((e) => { e.textContent = ""; });
+  document.querySelectorAll(extra).forEach((e) => { e.textContent = ""; });
 }
-function showError(field, message) {
-  // the control whose field is the error's field or holds it (factors.x for factors.x.lower_um)
+function showError(field, message, root = $("#controls"), fallback = "#run-error") {
+  // the control in root whose field (the request's field the server names) is the error's field or
+  // holds it (factors.x for factors.x.lower_um); else the fallback line
   let best = null;
-  document.querySelectorAll("[data-field]").forEach((e) => {
+  root.querySelectorAll("[data-field]").forEach((e) => {
     const f = e.dataset.field;
     if ((field === f || field.startsWith(f + ".") || f.startsWith(field + ".")) &&
         (!best || f.length > best.dataset.field.length) && e.querySelector(".err")) best = e;
@@ -99,7 +101,7 @@ function showError(field, message) {
     best.classList.add("invalid");
     best.querySelector(".err").textContent = message;
   } else {
-    $("#run-error").textContent = message;
+    $(fallback).textContent = message;
   }
 }
 
@@ -193,6 +195,14 @@ function tailOf(o) {
   return table.find((q) => Math.abs(q.probability - p) < 1e-9) || null;
 }
 
+function intervalText(q) {
+  // a quantile's 95 % interval; an end the sample cannot bound is open (bounded false, the end null)
+  if (q.bounded !== false) return `[${fmt(q.ci95_low)}, ${fmt(q.ci95_high)}]`;
+  const end = (v) => (v === null || v === undefined ? "beyond the sample" : fmt(v));
+  const needs = q.needs_samples ? ` (needs ≥ ${q.needs_samples.toLocaleString("en")} units)` : "";
+  return `[${end(q.ci95_low)}, ${end(q.ci95_high)}]${needs}`;
+}
+
 function card(name, o) {
   const unit = UNITS[o.unit] || o.unit;
   const tail = tailOf(o);
@@ -207,7 +217,7 @@ function card(name, o) {
   };
   item("σ", `${name}.sigma`, o.sigma, fmt(o.sigma));
   if (tail) item(`${(100 * tail.probability).toFixed(3)} % tail`, `${name}.tail`, tail.value, fmt(tail.value),
-                 `[${fmt(tail.ci95_low)}, ${fmt(tail.ci95_high)}]`);
+                 intervalText(tail));
   const c = el("div", { class: "card", "data-output": name },
     el("h3", { text: `${TITLES[name] || name} [${unit}]`, title: o.description }),
     el("div", {}, el("span", { class: "big", "data-key": `${name}.mean`, "data-value": String(o.mean), text: fmt(o.mean) }),
@@ -220,6 +230,8 @@ function card(name, o) {
       el("b", { "data-key": `${name}.yield`, "data-value": String(y.fraction), text: pct(y.fraction) }),
       el("span", { class: "ci", text: ` [${pct(y.ci95_low)}, ${pct(y.ci95_high)}]` })));
   }
+  // a warning the figures carry (e.g. a lost motion read in friction's stick band): on the card itself
+  if (o.warning) c.append(el("div", { class: "warn", "data-warning": name, text: "⚠ " + o.warning }));
   return c;
 }
 
@@ -283,7 +295,8 @@ function renderLoop(section) {
   const t = el("table", { class: "plain" }, el("tr", {}, ...["element", "lost motion [arcmin]", "share of compliance"].map((s) => el("th", { text: s }))));
   for (const k of rows) t.append(el("tr", {}, el("td", { text: k.replace(/_/g, " ") }),
     el("td", { text: fmt(h.lost_motion_share_arcmin[k]) }), el("td", { text: pct(h.compliance_share[k]) })));
-  $("#loop-shares").replaceChildren(t);
+  const warnings = (h.warnings || []).map((w) => el("div", { class: "warn", "data-warning": "loop", text: "⚠ " + w }));
+  $("#loop-shares").replaceChildren(...warnings, t);
 }
 
 function renderTe(t) {
@@ -375,14 +388,21 @@ function startProgress(id) {
 }
 function endProgress() { clearInterval(state.demandTimer); $("#progress-row").hidden = true; state.demandId = null; }
 
-async function onDemand(path, body, done) {
+async function onDemand(path, body, done, controls) {
+  // controls: the group of this job's own controls (an error about one shows beside it); else the
+  // run's controls on the left (the report reads them), else the line under the buttons
   const id = `${PAGE}-${path.split("/").pop()}-${++state.demandSeq}`;  // not the live changes' counter
+  clearErrors($("#demand"), "#demand-error");
   startProgress(id);
   const r = await post(path, { ...baseBody(), ...body, request_id: id, channel: PAGE + "-demand" });
   if (state.demandId !== id) return;
   endProgress();
   if (r.status === 409) { $("#demand-error").textContent = "cancelled"; return; }
-  if (!r.ok) { $("#demand-error").textContent = (await errorOf(r)).error; return; }
+  if (!r.ok) {
+    const err = await errorOf(r);
+    showError(err.field || "", err.error, controls || $("#controls"), "#demand-error");
+    return;
+  }
   await done(r);
 }
 
@@ -457,13 +477,13 @@ async function start() {
   $("#seed").addEventListener("change", update);
   $("#run-sobol").addEventListener("click", () => onDemand("/api/sensitivity",
     { model: model() === "transmission" ? "contact" : model(), samples: numberOf($("#sobol-n")), seed: numberOf($("#seed")) },
-    async (r) => renderSobol(await r.json())));
+    async (r) => renderSobol(await r.json()), $("#sobol-group")));
   $("#run-allocate").addEventListener("click", () => {
     const m = $("#alloc-model").value;
     const spec = m === "elastic" ? state.specs.elastic.lost_motion_arcmin : (state.specs[m].arcmin ?? 3);
     onDemand("/api/allocate", { model: m, spec_arcmin: spec, yield: numberOf($("#alloc-yield")),
                                 samples: m === "linear" ? undefined : 2000, seed: numberOf($("#seed")) },
-             async (r) => renderAllocation(await r.json()));
+             async (r) => renderAllocation(await r.json()), $("#alloc-group"));
   });
   $("#run-report").addEventListener("click", () => onDemand("/api/report", runBody(),
     async (r) => download("report.html", await r.blob())));
@@ -471,7 +491,7 @@ async function start() {
   $("#dl-design").addEventListener("click", async () => {
     const r = await post("/api/design", { ...baseBody(), format: "toml" });
     if (r.ok) download(`${state.controls ? state.controls.name : "design"}.toml`, await r.blob());
-    else showError((await errorOf(r)).field || "", (await errorOf(r)).error);
+    else { const err = await errorOf(r); showError(err.field || "", err.error); }
   });
   $("#dl-json").addEventListener("click", () => {
     if (state.lastJson) download("simulate.json", new Blob([state.lastJson], { type: "application/json" }));

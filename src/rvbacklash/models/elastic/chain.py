@@ -47,12 +47,11 @@ from rvbacklash._numba import njit, njit_borrowing
 from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.design.structure import StructureInputs
 from rvbacklash.errors import InputError
-from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models import compliance as cm
 from rvbacklash.models.contact import crank_step_angle_rad
-from rvbacklash.models.elastic.rollers import STRAIGHT, RollerLawFit, SlicedRoller, fit_roller_law, fitted_law_valid, \
-    sliced_roller
+from rvbacklash.models.elastic.rollers import STRAIGHT, RollerLawFit, SlicedRoller, fit_load_range_n, fit_roller_law, \
+    fitted_law_valid, sliced_roller
 from rvbacklash.models.elastic.solver import (N_TRANSLATION_ROWS, NEGATIVE, POSITIVE, ContactLaw, ContactSet,
                                               DiscTranslation, PinSet, SupportMemo, SupportSet, closure_order,
                                               new_state, set_bounds, solve_pins, solve_set, support_deflection_um)
@@ -252,29 +251,28 @@ def closed_form_model(problem: Problem) -> ElasticModel:
     psi = 2 * math.pi * np.arange(e.crank_bearing_rollers) / e.crank_bearing_rollers
     model = ElasticModel(e, g, chain, np.cos(psi), bearings, a0, float(raceway))
     if e.crank_bearing_roller_profile != "straight":
-        model = with_profiled_needles(problem, model)
+        model = with_profiled_needles(model)
     return with_structure(problem, model) if design.structure is not None else model
 
 
-def with_profiled_needles(problem: Problem, model: ElasticModel) -> ElasticModel:
+def with_profiled_needles(model: ElasticModel) -> ElasticModel:
     """The model with the crank needle rollers' profile (docs/rigidity-elements.md): their sliced law
-    (``rollers.sliced_roller``, no tilt) fitted as a power law (``rollers.fit_roller_law``) over the
-    roller loads the bearing sees: from half the most loaded roller's at the lost motion's torque
-    (x T_R, no clearance) to the most loaded roller's at the rated torque with the largest
-    clearance of the design's zone (factor ``crank_bearing_clearance``; under the straight law's
-    load sharing, then the fitted law's, the larger). The kernel then runs today's code with
-    these coefficients (roller_a, roller_b = 0, roller_n)."""
+    (``rollers.sliced_roller``, no tilt) fitted as a power law (``rollers.fit_roller_law``) over a
+    range of roller loads set by the design's rated torque alone (``rollers.fit_load_range_n``): from
+    half the most loaded roller's at FIT_LOW_TORQUE_FRACTION of T_R to the most loaded roller's at
+    T_R, both without clearance (under the straight law's load sharing, then the fitted law's, the
+    larger), so that neither where the loop is read (the measuring fraction) nor the clearance zone's
+    width moves the law (issue 36). The kernel then runs today's code with these coefficients
+    (roller_a, roller_b = 0, roller_n)."""
     e, c = model.inputs, model.chain
     roller = sliced_roller(e.crank_bearing_roller_profile, e.crank_bearing_roller_length_mm,
                            e.crank_bearing_roller_diameter_mm, False, e.crank_bearing_roller_crown_drop_um,
                            e.crank_bearing_roller_log_scale_um)
-    clearance = max(problem.zones[FACTOR_KEYS.index("crank_bearing_clearance")].upper_um, 0.0)
     rated = c.rated_torque_nm * c.bearing_force_n_per_nm
-    q_min = 0.5 * most_loaded_roller_n(model.roller_cos, c, 0.0, c.measuring_fraction * rated)
-    q_max = most_loaded_roller_n(model.roller_cos, c, clearance, rated)
+    q_min, q_max = fit_load_range_n(lambda load: most_loaded_roller_n(model.roller_cos, c, 0.0, load), rated)
     fit = fit_roller_law(roller, c.roller_a, c.roller_b, c.law_n, q_min, q_max)
     fitted = c._replace(roller_a=fit.a, roller_b=0.0, roller_n=fit.n)
-    q_fit = most_loaded_roller_n(model.roller_cos, fitted, clearance, rated)
+    q_fit = most_loaded_roller_n(model.roller_cos, fitted, 0.0, rated)
     if q_fit > q_max:  # the profiled rollers share the load differently: cover their own range
         fit = fit_roller_law(roller, c.roller_a, c.roller_b, c.law_n, q_min, q_fit)
         fitted = c._replace(roller_a=fit.a, roller_b=0.0, roller_n=fit.n)
@@ -299,18 +297,30 @@ def with_structure(problem: Problem, model: ElasticModel) -> ElasticModel:
     """The model with the whole torque path of the design's [structure] table (docs/elastic.md,
     "The whole torque path"): crankshafts, support bearings and carrier derived from their
     dimensions (unless ``structure_stiffness_nm_per_arcmin`` states them: a measured value wins),
-    and the discs' sideways motion on their needle bearings. Computed once per design."""
+    and the discs' sideways motion on their needle bearings. Computed once per design.
+    Other than two discs (issue 36): the crankshafts, support bearings and carrier are derived for two
+    discs symmetric about the crankshaft's mid-span, so they must be stated
+    (``structure_stiffness_nm_per_arcmin``); what holds for any number of discs is kept — the disc
+    bodies' FE and the discs' sideways motion across the eccentric (``"full"``, solved against the
+    crank bent by two discs' opposite forces, is refused)."""
     st = problem.design.structure
     e, c, geo = model.inputs, model.chain, problem.geometry
     s1 = problem.design.first_stage
-    if problem.cycloid.discs != 2:
-        raise InputError("second_stage.discs", problem.cycloid.discs,
-                         "the derived torque path ([structure]) is for two discs, symmetric about the crankshaft's "
-                         "mid-span; allowed: discs = 2, or remove [structure] and state "
-                         "elastic.structure_stiffness_nm_per_arcmin")
     k, a0, nb_ = c.lever_factor, model.crank_circle_radius_mm, model.bearings
     changes: dict[str, float | int | bool] = {}
     derived = e.structure_stiffness_nm_per_arcmin is None
+    discs = problem.cycloid.discs
+    if discs != 2 and derived:
+        raise InputError("second_stage.discs", discs,
+                         "the crankshafts, support bearings and carrier that [structure] derives are for two discs, "
+                         "symmetric about the crankshaft's mid-span; allowed: discs = 2, or state "
+                         "elastic.structure_stiffness_nm_per_arcmin for those three ([structure] then still gives the "
+                         "disc bodies' finite elements and the discs' sideways motion across the eccentric; without "
+                         "[structure] both are left out and the chain reads stiffer)")
+    if discs != 2 and st.disc_translation == "full":
+        raise InputError("structure.disc_translation", st.disc_translation,
+                         f"along the eccentric the discs' translation is solved against the crank bent by two discs' "
+                         f"opposite forces; allowed with {discs} discs: across, none")
     if derived:
         offset = 0.5 * (st.crankshaft_support_span_mm - st.disc_spacing_mm)
         bend = cm.crank_symmetric_deflection_um_per_n(st.crankshaft_support_span_mm, offset, st.crankshaft_diameter_mm,
@@ -738,6 +748,32 @@ def branch_angles(torque_nm, branch, unit, support, c, state, out):
     ``chain_angles``)."""
     t_el, side = branch_point(torque_nm, branch, c)
     chain_angles(t_el, side, unit, support, c, state, out)
+
+
+def lost_motion_in_stick_band(c) -> bool:
+    """Does friction hold the output inside the measuring torques (Chain ``c``)? On the rising
+    branch at +x T_R the chain carries T_el = (x T_R - T_f0) / (1 -+ mu) (``branch_point``): for
+    T_f0 >= x T_R it is still <= 0, the output has not crossed its dead bands (nor, on the falling
+    branch at -x T_R, back). The lost motion's definition, the mean of the load and unload angles
+    at +x T_R less that at -x T_R, then reads the width of the stick band — the chain's elastic
+    wind-up between the two friction torques — and not the play, which the loop shows only in its
+    width at zero torque (the backlash). A bench with this loop reads the same figure: it is the
+    definition's, not an error of the model; what changes is what it means."""
+    t_el, side = branch_point(c.measuring_fraction * c.rated_torque_nm, RISE, c)
+    return t_el < 0.0 or (t_el == 0.0 and side < 0.0)
+
+
+def stick_band_warning(c) -> str | None:
+    """The warning every output that shows a lost motion of this design carries when
+    ``lost_motion_in_stick_band`` (None otherwise): friction, x T_R and what the figure is."""
+    if not lost_motion_in_stick_band(c):
+        return None
+    x, tr, tf = c.measuring_fraction, c.rated_torque_nm, c.friction_nm
+    return (f"friction {tf:.4g} N m >= the measuring torque x T_R = {x * tr:.4g} N m ({x * 100:g} % of "
+            f"{tr:.4g} N m): the loop's branches stick inside +-x T_R, so the lost motion read there is the "
+            f"width of the stick band (the wind-up between the friction torques), not the play, and a yield "
+            f"against a lost-motion spec counts that; the backlash (the loop's width at 0 N m) holds the play. "
+            f"Check friction_torque_nm, or measure at x > T_f / T_R = {tf / tr:.4g} (docs/elastic.md, Friction).")
 
 
 LOOP_POINTS = 10  # the loop's points that the figures read (loop_points)

@@ -17,6 +17,7 @@ A straight profile is today's model: no slices, no tilt, the straight law itself
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -27,6 +28,9 @@ from rvbacklash.models import compliance as cm
 ROLLER_SLICES = 30  # slices per roller: ISO/TS 16281's worked examples; rv80e's laws change < 0.1 % at 60 (tests)
 FIT_POINTS = 80  # loads (0, Q_max] at which the needle law's fit is made and its error read
 FIT_VERSION = 2  # of fit_roller_law's method: its cached results (mechanics.fe_cache) are keyed by it
+# the needle law's fit starts at the roller loads of this fraction of the rated torque (fit_load_range_n): below
+# the measuring fractions in use (2-5 %, Nabtesco 3 %), fixed so that the reading does not move the law
+FIT_LOW_TORQUE_FRACTION = 0.01
 PROFILES = ("straight", "crowned", "logarithmic")
 
 
@@ -77,6 +81,22 @@ class RollerLawFit(NamedTuple):
     load_max_n: float
     max_relative_error: float
     max_error_um: float
+
+
+def fit_load_range_n(most_loaded_n: Callable[[float], float], rated_load_n: float) -> tuple[float, float]:
+    """The roller loads [N] a crank needle bearing's law is fitted over (``fit_roller_law``): from half
+    the most loaded roller's at FIT_LOW_TORQUE_FRACTION of the rated bearing load (its neighbours
+    carry about half of it) to the most loaded roller's at the rated load, both without clearance.
+    ``most_loaded_n(load)``: the most loaded roller [N] of the bearing carrying ``load`` [N] without
+    clearance (``chain.most_loaded_roller_n``); ``rated_load_n``: the bearing's load at the rated
+    torque [N]. Set by the design's rated torque and bearing alone: not by where the loop is read (the
+    measuring fraction) nor by the clearance zone, so that a unit's figures do not move when neither
+    does the unit (issue 36; before, the range ran from the lost motion's torque to the rated torque
+    with the zone's largest clearance, and rv80e's nominal rigidity moved 0.3 % between measuring
+    fractions of 1 and 5 %). Units with a clearance load their top roller beyond the range: the law
+    extrapolates there (rv80e: the bearing's deflection within 3 % of the exactly sliced bearing from 1
+    to 100 % of T_R with clearances up to 18 um, twice the zone's largest; tests)."""
+    return 0.5 * most_loaded_n(FIT_LOW_TORQUE_FRACTION * rated_load_n), most_loaded_n(rated_load_n)
 
 
 def fit_roller_law(roller: SlicedRoller, a: float, b: float, n: float, load_min_n: float,
