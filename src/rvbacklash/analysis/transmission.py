@@ -26,7 +26,7 @@ from rvbacklash.analysis.contact import linear_stage_means
 from rvbacklash.errors import InputError
 from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          cached_table, flank_extremes, lost_motion_arcmin, perfect_unit,
+                                          cached_table, curve_extremes, lost_motion_arcmin, perfect_unit,
                                           reference_revolution, revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
@@ -98,7 +98,7 @@ class TransmissionErrorResult(Result):
     positions: int
     load_direction: str  # the flank of the headline TE figures: ccw (output driven counter-clockwise) or cw
     te_peak_to_peak_arcsec: float  # the catalogue figure, load_direction's flank: the curve's, refined between positions
-    te_min_arcsec: float  # (the sampled curve te_*_arcsec may stay inside these: kinematics.flank_extremes)
+    te_min_arcsec: float  # (the sampled curve te_*_arcsec may stay inside these: kinematics.curve_extremes)
     te_max_arcsec: float
     te_peak_to_peak_other_flank_arcsec: float
     # the output's rigid lost motion = cycloid stage + other_stages_arcmin (module docstring)
@@ -207,13 +207,15 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     loaded = load_direction == "ccw"
     kin = kinematics(problem)
 
-    def extremes(unit: Realization, rev: Revolution, flank_ccw: bool) -> tuple[float, float]:
-        """The TE curve's min and max [arcsec] between its positions (models.kinematics.flank_extremes)."""
-        lo, hi = flank_extremes(g, unit, perfect, kin, rev, ref, flank_ccw)
-        return lo * ARCSEC_PER_RAD, hi * ARCSEC_PER_RAD
+    def extremes(unit: Realization, rev: Revolution) -> tuple[tuple[float, float], tuple[float, float]]:
+        """(min, max) [arcsec] of the load direction's flank and of the other, refined between the
+        positions (models.kinematics.curve_extremes)."""
+        ccw_x, cw_x = curve_extremes(g, unit, perfect, kin, rev, ref)
+        main_x, other_x = (ccw_x, cw_x) if loaded else (cw_x, ccw_x)
+        return (main_x[0] * ARCSEC_PER_RAD, main_x[1] * ARCSEC_PER_RAD), \
+            (other_x[0] * ARCSEC_PER_RAD, other_x[1] * ARCSEC_PER_RAD)
 
-    te_min, te_max = extremes(r, run, loaded)
-    other_min, other_max = extremes(r, run, not loaded)
+    (te_min, te_max), (other_min, other_max) = extremes(r, run)
     stage = lost_motion_arcmin(run.ccw_rad, run.cw_rad)  # the cycloid stage's gap
     other_from = "given" if other_stages_arcmin is not None else "linear means"
     other = float(other_stages_arcmin) if other_stages_arcmin is not None else \
@@ -232,7 +234,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
             rev = revolution(problem, without, positions, table=table)
             c, w = te(rev)
             m = c if loaded else w
-            m_lo, m_hi = extremes(without, rev, loaded)
+            (m_lo, m_hi), _ = extremes(without, rev)
             out_shares.append(GroupShare(group, m_hi - m_lo, 1.0 - float(np.var(m)) / var if var > 0 else 0.0))
     ripple = (ref.ccw_rad if load_direction == "ccw" else ref.cw_rad) * ARCSEC_PER_RAD
     return TransmissionErrorResult(
