@@ -169,12 +169,12 @@ def test_te_peak_to_peak_is_converged_in_positions(problem):
     stage jumped (the rotation maximising the smallest gap), and the first contact's features narrower
     than a position step (one pin pitch is 1 / (z_c z_p) rev) were read only where a position fell.
     Now a preloaded stage rests where its interfering pins' forces balance and the figure is the
-    curve's peak-to-peak, refined between positions: the first units of the same run read the same
-    figure at 1024 and 4096 positions within 1 % (the closing note of the issue gives 40 units at
-    1024 / 4096 / 16 384)."""
+    curve's peak-to-peak, refined between positions (kinematics.curve_extremes): the first units of
+    the same run read the same figure at 1024 and 4096 positions within 1 % (three units: each costs
+    seconds; docs/transmission-error.md gives 40 units at 1024 / 4096 / 16 384)."""
     from rvbacklash.sampling.te_source import sample_units
 
-    units = sample_units(problem, 3, 6)
+    units = sample_units(problem, 3, 3)
     for k, u in enumerate(units):
         coarse, fine = (transmission_error(problem, u, f"unit {k}", n, shares=False).te_peak_to_peak_arcsec
                         for n in (1024, 4096))

@@ -378,7 +378,7 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
 # - a step with a preloaded end can reach the other flank's position at the free positions beside it
 #   (a swing);
 # the steps whose bound passes the best value found are searched, largest excess first, at REFINE_POINTS
-# sub-steps and then REFINE_LEVELS zooms of ZOOM_POINTS about each flank's best, until no bound passes
+# sub-steps and then, for the goals the step improved, REFINE_LEVELS zooms of ZOOM_POINTS about their best, until no bound passes
 # (at most REFINE_STEPS steps). Not caught: a stage freed, or swung, only between two preloaded positions
 # whose curve shows nothing of it (the residue measured in docs/transmission-error.md).
 SLOPE_SAFETY, REFINE_POINTS, ZOOM_POINTS, REFINE_LEVELS, REFINE_STEPS = 2.0, 16, 8, 3, 256
@@ -437,19 +437,23 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run, ref,
         # search step k: sub-steps, then zooms about each goal's best
         at = k * step + step * np.linspace(0.0, 1.0, REFINE_POINTS + 1)
         w = flank_te(g, r, reference, kin, at, exact)
-        centres, half = [], step / REFINE_POINTS
+        centres, goals_in = [], []  # zoomed: the goals this step improved
         for i, (f, sign) in enumerate(goals):
             j = int(np.argmax(sign * w[f]))
-            best[i] = max(best[i], float(sign * w[f, j]))
-            centres.append(at[j])
-        for _ in range(REFINE_LEVELS):
+            if sign * w[f, j] > best[i]:
+                best[i] = float(sign * w[f, j])
+                centres.append(at[j])
+                goals_in.append(i)
+        half = step / REFINE_POINTS
+        for _ in range(REFINE_LEVELS if goals_in else 0):
             offsets = half * np.linspace(-1.0, 1.0, ZOOM_POINTS + 1)
             at = (np.array(centres)[:, None] + offsets[None, :]).ravel()
-            w = flank_te(g, r, reference, kin, at, exact).reshape(2, 4, ZOOM_POINTS + 1)
-            for i, (f, sign) in enumerate(goals):
-                j = int(np.argmax(sign * w[f, i]))
-                best[i] = max(best[i], float(sign * w[f, i, j]))
-                centres[i] = centres[i] + offsets[j]
+            w = flank_te(g, r, reference, kin, at, exact).reshape(2, len(goals_in), ZOOM_POINTS + 1)
+            for c, i in enumerate(goals_in):
+                f, sign = goals[i]
+                j = int(np.argmax(sign * w[f, c]))
+                best[i] = max(best[i], float(sign * w[f, c, j]))
+                centres[c] = centres[c] + offsets[j]
             half *= 2.0 / ZOOM_POINTS
     return (-best[1], best[0]), (-best[3], best[2])
 
