@@ -19,6 +19,8 @@ import os
 import threading
 import time
 
+from bench_app import start_server  # this directory: the same workbench on a free loopback port
+
 # job kind -> (endpoint, body): each at the workbench's cap for it (SAMPLE_CAPS in
 # src/rvbacklash/app/requests.py; explicit here, so that an older workbench runs the same jobs)
 JOBS = {
@@ -35,18 +37,6 @@ JOBS = {
     "allocate elastic": ("/api/allocate", {"model": "elastic", "spec_arcmin": 1.5, "yield": 0.99, "samples": 10_000}),
 }
 TINY = 1000
-
-
-def start_server():
-    import uvicorn
-
-    from rvbacklash.app import create_app
-
-    server = uvicorn.Server(uvicorn.Config(create_app("rv80e"), host="127.0.0.1", port=0, log_level="warning"))
-    threading.Thread(target=server.run, daemon=True).start()
-    while not server.started:
-        time.sleep(0.02)
-    return server, f"http://127.0.0.1:{server.servers[0].sockets[0].getsockname()[1]}"
 
 
 def main() -> None:

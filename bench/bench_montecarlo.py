@@ -45,9 +45,8 @@ def numpy_rate(samples: int, chunk: int = 1 << 16) -> float:
 def peak_rss_mb(samples: int) -> float:
     code = ("import resource, sys\n"
             "from rvbacklash.cli import main\n"
-            f"sys.argv = ['rvbacklash', 'simulate', 'sun2014', '--samples', '{samples}', '--seed', '1', "
-            "'--spec-arcmin', '3', '--quiet']\n"
-            "try:\n    main()\nexcept SystemExit:\n    pass\n"
+            f"argv = ['simulate', 'sun2014', '--samples', '{samples}', '--seed', '1', '--spec-arcmin', '3', '--quiet']\n"
+            "try:\n    main(argv)\nexcept SystemExit:\n    pass\n"
             "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return int(out.stdout.strip().splitlines()[-1]) / 1024.0

@@ -128,9 +128,10 @@ def main() -> None:
     print(f"exact, all-normal (closed form), prepared: {in_process(lambda: rb.exact(normal, spec_arcmin=3.0), many) * 1e3:8.2f} ms")
     print(f"exact, one uniform factor (FFT), prepared: "
           f"{in_process(lambda: rb.exact(mixed, spec_arcmin=3.0), few) * 1e3:8.2f} ms")
-    code = ("import sys\nfrom rvbacklash.cli import main\nsys.argv=['rvbacklash','--help']\n"
-            "try:\n    main()\nexcept SystemExit:\n    pass\n"
-            "print('|'.join(m for m in ('numpy', 'scipy', 'numba', 'pydantic', 'matplotlib') if m in sys.modules))")
+    code = ("import atexit, sys\nfrom rvbacklash.cli import main\nsys.argv=['rvbacklash','--help']\n"
+            "atexit.register(lambda: print('|'.join(m for m in ('numpy', 'scipy', 'numba', 'pydantic', 'matplotlib') "
+            "if m in sys.modules)))\n"
+            "main()\n")  # read in an exit handler: the console script's main() ends the process itself
     loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.splitlines()[-1]
     print(f"heavy modules loaded by --help: {loaded or 'none'}")
 

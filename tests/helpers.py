@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import os
+import pty
+import re
+import signal
 import subprocess
 import sys
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -118,3 +122,36 @@ def call_beside_fifo(fifo: Path, fn, timeout: float = 60.0) -> dict:
         t.join(10)
         pytest.fail(f"reading {fifo} blocked for {timeout} s")
     return out
+
+
+def interrupt_on_progress(args: list, cwd, again_after: float | None = None,
+                          progress: bytes = rb"sampling\S*\s.*?\b[1-9][0-9]*/[0-9]+") -> tuple[int, str]:
+    """Run a command on a pseudo-terminal (so that it draws its progress bar), send SIGINT once
+    the bar shows finished work (``progress``, a regex of the tty's bytes: by default finished
+    samples), and a second one ``again_after`` seconds later; return (exit code, what it printed on
+    the tty)."""
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "rvbacklash", *map(str, args)], stdin=slave, stdout=slave,
+                            stderr=slave, cwd=cwd, env={**os.environ, "COLUMNS": "120"})
+    os.close(slave)
+    seen = b""
+    deadline = time.monotonic() + 900  # a guard: an empty numba cache on a loaded machine compiles for minutes
+    sent = False
+    while time.monotonic() < deadline:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        seen += chunk
+        if not sent and re.search(progress, seen):
+            proc.send_signal(signal.SIGINT)
+            sent = True
+            if again_after is not None:
+                time.sleep(again_after)
+                proc.send_signal(signal.SIGINT)
+    proc.wait(timeout=120)  # a guard: writing the partial results on a loaded machine
+    os.close(master)
+    assert sent, seen.decode(errors="replace")[-2000:]
+    return proc.returncode, seen.decode(errors="replace")

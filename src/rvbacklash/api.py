@@ -27,13 +27,16 @@ if TYPE_CHECKING:
     from rvbacklash.analysis.allocation import AllocationResult
     from rvbacklash.analysis.bench import BenchResult
     from rvbacklash.analysis.calibration import CalibrationResult
-    from rvbacklash.analysis.capacity import CapacityResult
+    from rvbacklash.analysis.capacity import CapacityResult, CapacityTrade
+    from rvbacklash.analysis.losses import EfficiencyResult
     from rvbacklash.analysis.contact import NominalContact
     from rvbacklash.analysis.hysteresis import ElasticSection, HysteresisResult
     from rvbacklash.analysis.report_data import ReportData
     from rvbacklash.analysis.scenarios import Comparison, Scenario
     from rvbacklash.analysis.simulation import SimulationResult
     from rvbacklash.analysis.sensitivity_global import SensitivityResult
+    from rvbacklash.analysis.service_life.calibration import WearCalibration
+    from rvbacklash.analysis.service_life.results import ServiceLifeResult
 
 DesignLike = Union[Design, str, Path, Problem]
 DEFAULT_SAMPLES = 1_000_000  # = analysis.simulation.DEFAULT_SAMPLES (a test keeps them equal)
@@ -76,6 +79,51 @@ def simulate(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int = 
     return _simulate(prepare(design), samples=samples, seed=seed, method=method, spec_arcmin=spec_arcmin,
                      specs=specs, quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
                      stream=stream, error_model=error_model, save_units=save_units, life=life)
+
+
+def simulate_selected(design: DesignLike, *, select, samples: int = DEFAULT_SAMPLES, seed: int = 0,
+                      spec_arcmin: float | None = None, specs: Mapping[str, float] | None = None,
+                      quantiles: Iterable[float] = (), workers: int | None = None, model: str = "elastic",
+                      progress: Callable[[int], None] | None = None, error_model: str | None = None,
+                      save_units: int = 0):
+    """A production run with random assembly and with selective assembly (``select``: a
+    ``Selection`` or the ``--select`` string, e.g. "pins=5x2um,rollers=3x2um"), the same seed and
+    units, side by side: a ``SelectionResult`` (docs/selective-assembly.md)."""
+    from rvbacklash.analysis.selection.classes import as_selection
+    from rvbacklash.analysis.selection.run import simulate_selected as _run
+
+    selection = as_selection(select)
+    if selection is None:
+        raise InputError("select", None, "allowed: a Selection or a string such as 'pins=5x2um,rollers=3x2um'")
+    return _run(prepare(design), selection, samples=samples, seed=seed, spec_arcmin=spec_arcmin, specs=specs,
+                quantiles=tuple(quantiles), workers=workers, model=model, progress=progress,
+                error_model=error_model, save_units=save_units)
+
+
+def generate_batch(design: DesignLike, *, units: int, seed: int = 0):
+    """A batch of ``units`` measured units (pins not chosen) and their measured pins and roller sets,
+    drawn with ``seed``: (units, parts) for ``assemble`` (docs/selective-assembly.md)."""
+    from rvbacklash.analysis.selection.assembly import generate_batch as _generate
+    from rvbacklash.sampling.seeds import check_seed
+
+    return _generate(prepare(design), units, check_seed(seed))
+
+
+def assemble(design: DesignLike, *, units, parts, select="pins=5x2um,rollers=3x2um",
+             spec_lost_motion_arcmin: float | None = None):
+    """The assembly sheet of a measured batch: ``units`` (a measured-unit file or MeasuredUnit
+    records), ``parts`` (a CSV of measured parts or Part records), ``select`` (a Selection or the
+    ``--select`` string). Returns (AssemblySheet, the built units as assembled)."""
+    from rvbacklash.analysis.selection.assembly import assemble as _assemble, read_parts
+    from rvbacklash.analysis.selection.classes import as_selection
+    from rvbacklash.design.measured import load_units
+
+    problem = prepare(design)
+    if isinstance(units, (str, Path)):
+        units = load_units(units, problem.design)
+    if isinstance(parts, (str, Path)):
+        parts = read_parts(parts)
+    return _assemble(problem, list(units), list(parts), as_selection(select), spec_lost_motion_arcmin)
 
 
 def output_specs(model: str, spec_arcmin: float | None, lost_motion: float | None, rigidity: float | None,
@@ -306,13 +354,15 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                           spec_te_arcsec=spec_te_arcsec if by in ("contact", "transmission") else None, seed=seed,
                           workers=workers,
                           **({"samples": allocate_samples} if by != "linear" else {}))
-    cap = None
+    cap = trade = None
     if capacity:  # the capacity and life section (issue 37; docs/capacity.md): the nominal unit's datasheet
-        from rvbacklash.analysis.capacity import capacity_rating
+        from rvbacklash.analysis.capacity import capacity_rating, capacity_trade
 
         cap = capacity_rating(problem)
+        if not sim.partial:  # and the trade: lost motion against life of the design and its what-ifs
+            trade = capacity_trade(problem)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission, cap)
+                             elastic, sweep, transmission, cap, trade)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,
@@ -354,9 +404,115 @@ def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles
     from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_rating
     from rvbacklash.design.duty_cycle import read_duty_cycle
 
-    cycle = read_duty_cycle(duty_cycle) if duty_cycle is not None else None
+    cycle = read_duty_cycle(example_duty_cycle(duty_cycle)) if duty_cycle is not None else None
     return capacity_rating(prepare(design), angles=DEFAULT_ANGLES if angles is None else angles, duty_cycle=cycle,
                            life_method=life_method)
+
+
+def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
+               temperature_c: float | None = None, output_speed_rpm: float | None = None, samples: int = 0,
+               seed: int = 0, spec_min_efficiency: float | None = None,
+               progress: Callable[[int], None] | None = None) -> EfficiencyResult:
+    """The efficiency datasheet of the nominal unit (docs/efficiency.md): the efficiency and each
+    element's loss at the rated point, the efficiency map against output torque, speed and
+    temperature, the no-load running torque against input speed, the starting and back-driving
+    torques; with ``duty_cycle`` (a CSV or TOML file, design/duty_cycle.py) the steady case
+    temperature, its time constant, the allowable duty at the case limit, and lost motion and
+    backlash at that temperature. ``angles``: crank angles per revolution (default 12);
+    ``temperature_c``: the oil's (default [lubrication] temperature_c); ``output_speed_rpm``: the
+    rated point's (default [capacity] rated_output_speed_rpm); ``samples``: that many units of the elastic
+    model's production run with ``seed`` (the same units as ``simulate(..., model="elastic")``), each
+    followed through the crank angles: their efficiency's distribution and the yield against
+    ``spec_min_efficiency`` (a lower limit, 0-1). The design needs [elastic]."""
+    from rvbacklash.analysis.losses import efficiency_rating
+    from rvbacklash.analysis.losses.efficiency import DEFAULT_ANGLES, progress_steps
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    from rvbacklash.analysis.losses.production import check_run
+
+    check_run(samples, spec_min_efficiency)
+    cycle = read_duty_cycle(example_duty_cycle(duty_cycle)) if duty_cycle is not None else None
+    problem = prepare(design)
+    if problem.design.elastic is None:
+        raise InputError("elastic", None, "the losses need the design's [elastic] table (the loads of the elastic "
+                                          "model; docs/efficiency.md)")
+    import dataclasses
+
+    from rvbacklash.analysis.losses.production import efficiency_run
+
+    k = DEFAULT_ANGLES if angles is None else angles
+    result = efficiency_rating(problem, angles=k, temperature_c=temperature_c, output_speed_rpm=output_speed_rpm,
+                               duty_cycle=cycle, progress=progress)
+    if not samples:
+        return result
+    steps = progress_steps(duty_cycle=cycle)
+    run = efficiency_run(problem, units=samples, seed=seed, angles=k, temperature_c=result.temperature_c,
+                         output_speed_rpm=result.rated_output_speed_rpm, spec_min_efficiency=spec_min_efficiency,
+                         progress=None if progress is None else (lambda i: progress(steps + i)))
+    return dataclasses.replace(result, production=run)
+def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[float] = (0.0, 1000.0, 6000.0),
+                 spec_lost_motion_arcmin: float = 1.5, samples: int = 2000, seed: int = 0, angles: int | None = None,
+                 step_fraction: float | None = None,
+                 progress: Callable[[str, float], None] | None = None) -> "ServiceLifeResult":
+    """Precision over the service life (docs/service-life.md): the nominal unit's lost motion, backlash
+    and rigidity after ``hours`` of the duty cycle ``duty_cycle`` (a CSV or TOML file, or the name of an
+    example cycle: ``robot-joint``), its contacts' wear rates and worn flank, and ``samples`` units of
+    the production run (seeded by ``seed``; 0: none): their yield against ``spec_lost_motion_arcmin``
+    versus hours and their accuracy life. ``angles``: crank angles per revolution of each step's loads
+    (default 12); ``step_fraction``: the largest wear depth per time step as a share of the reference
+    clearance (default 0.1). The design needs [elastic]; its [wear] table (optional) sets the wear
+    coefficients and running-in (design/wear.py)."""
+    from rvbacklash.analysis.service_life.datasheet import service_life as _service_life
+    from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    cycle = read_duty_cycle(example_duty_cycle(duty_cycle))
+    return _service_life(prepare(design), cycle, hours, samples=samples, seed=seed,
+                         spec_lost_motion_arcmin=spec_lost_motion_arcmin,
+                         angles=DEFAULT_ANGLES if angles is None else angles,
+                         step_fraction=DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
+                         progress=progress)
+
+
+def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]],
+                   sigma_arcmin: float = 0.01) -> "WearCalibration":
+    """The wear coefficients' common scale (k = s k_design) fitted, with a 95 % interval, to one unit's lost
+    motion measured at 0 h and after some hours of ``duty_cycle`` (``measurements``: (hours, lost motion
+    [arcmin]) pairs, e.g. the ``bench`` command's readings of its loops; ``sigma_arcmin``: one reading's
+    repeatability). docs/service-life.md, "Calibration"."""
+    from rvbacklash.analysis.service_life.calibration import calibrate_wear as _calibrate
+    from rvbacklash.design.duty_cycle import read_duty_cycle
+
+    return _calibrate(prepare(design), read_duty_cycle(example_duty_cycle(duty_cycle)), list(measurements),
+                      sigma_arcmin=sigma_arcmin)
+
+
+def example_duty_cycle(path: str | Path) -> Path:
+    """A duty-cycle file: ``path`` when it exists, else the packaged example of that name
+    (``robot-joint``: examples/duty_cycles/robot-joint.csv)."""
+    p = Path(path)
+    if p.is_file():
+        return p
+    from importlib import resources
+
+    name = p.name if p.suffix else p.name + ".csv"
+    packaged = Path(str(resources.files("rvbacklash.examples") / "duty_cycles" / name))
+    return packaged if packaged.is_file() else p
+
+
+def capacity_trade(design: DesignLike, *, what_ifs: Iterable | None = None, angles: int | None = None,
+                   life_method: str | None = None, progress: Callable[[int], None] | None = None) -> CapacityTrade:
+    """Lost motion against life (docs/capacity.md, "The trade"): the nominal unit's lost motion, reducer
+    L10 at the stated rated torque and derived rated torque, for the design as given (``points[0]``)
+    and for each what-if of it. ``what_ifs``: ``WhatIf`` items (design edits by dotted path;
+    ``clearance_what_if(c)``, ``modification_what_if(m)`` build the usual ones) — None: the crank
+    bearings' clearance at -4 (a preload), 0, 10, 20 um and the equidistance modification at 0, 2,
+    10 um; (): the design alone. ``angles``: crank angles per revolution (default 24); ``progress(done)``:
+    points finished. The design needs [elastic] and [structure]."""
+    from rvbacklash.analysis.capacity import DEFAULT_ANGLES, capacity_trade as _trade
+
+    return _trade(prepare(design), what_ifs, angles=DEFAULT_ANGLES if angles is None else angles,
+                  life_method=life_method, progress=progress)
 
 
 def elastic_section(design: DesignLike, *, simulation: SimulationResult | None = None,
@@ -390,11 +546,15 @@ def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None
 
 def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, model: str = "linear",
              spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-             spec_te_arcsec: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0, scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
+             spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
+             spec_rated_torque_nm: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0,
+             scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
              progress: Callable[[int], None] | None = None) -> AllocationResult:
     """The cheapest precision grade per part group such that P(backlash <= spec_arcmin [and
     rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um] [and TE peak-to-peak
-    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution]) >= yield_target
+    <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution] [and
+    the reducer's L10 >= spec_life_h, the derived rated torque >= spec_rated_torque_nm: the elastic model's life
+    outputs, docs/capacity.md]) >= yield_target
     (backlash: the model's primary output, lost motion for the elastic model), with the uniform-grade baseline
     and the cost-yield Pareto front (docs/allocation.md). Costs: the design's [costs] table over
     the defaults. The linear model is solved exactly; the Monte-Carlo models (``samples`` per
@@ -408,7 +568,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
     if model == "linear" or scheduler in (None, "inline"):
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                         spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
                          executor=None, workers=workers, pareto=pareto, progress=progress)
     try:
         from rvbacklash.analysis.executor import executor
@@ -419,7 +580,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
         ex = stack.enter_context(executor(scheduler, workers))
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
-                         spec_te_arcsec=spec_te_arcsec, samples=samples, seed=seed,
+                         spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                         spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
                          executor=ex, workers=None, pareto=pareto, progress=progress)
 
 

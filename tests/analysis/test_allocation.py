@@ -291,3 +291,26 @@ def test_a_search_whose_candidates_fail_verification_says_so():
     assert e.value.field == "yield_target"
     assert "cheapest feasible candidates failed verification on an independent stream" in str(e.value)
     assert "failed verification: yield 0." in str(e.value)
+
+
+def test_a_candidates_yield_joins_the_life_specs():
+    """Life specs (issue 37) reach each candidate's run: its yield is the joint yield of lost motion and
+    the reducer's life / derived rated torque, each of which has its own yield; the targets are checked
+    before any run, and the result's text names them."""
+    from rvbacklash.analysis.allocation import evaluate_candidate, extra_specs
+    from rvbacklash.analysis.allocation.specs import specs_text
+    from rvbacklash.design.loading import load_design
+
+    specs = extra_specs(None, None, None, 3000.0, 650.0)
+    assert specs == {"life": 3000.0, "rated_torque": 650.0}
+    assert specs_text(specs) == ", L10 >= 3000 h, rated torque >= 650 N m"
+    ev = evaluate_candidate((load_design("rv80e"), "elastic", 1000, 1, (0,), 2.5, specs, 1))
+    assert set(ev.yields) == {"lost_motion", "life", "rated_torque"} and ev.output == "lost_motion"
+    assert ev.yield_.fraction <= min(y.fraction for y in ev.yields.values())
+    assert 0.0 < ev.yields["life"].fraction < 1.0  # the spec cuts the life distribution (rv80e nominal: 3405 h)
+    with pytest.raises(InputError) as e:
+        check_targets(2.5, 0.9, spec_life_h=float("nan"))
+    assert e.value.field == "spec_life_h"
+    with pytest.raises(InputError) as e:
+        allocate(_problem(), model="linear", spec_arcmin=3.0, yield_target=0.9, spec_rated_torque_nm=700.0)
+    assert e.value.field == "spec_rated_torque_nm" and "elastic model only" in str(e.value)

@@ -11,7 +11,7 @@ import pytest
 import rvbacklash as rb
 from rvbacklash.analysis.bench import read_bench
 from rvbacklash.analysis.bench_synthetic import model_loop_samples, write_loop_csv
-from rvbacklash.analysis.calibration import calibrate
+from rvbacklash.analysis.calibration import calibrate, calibration_header
 from rvbacklash.analysis.hysteresis import hysteresis
 from rvbacklash.errors import InputError
 from rvbacklash.report.design_toml import design_toml
@@ -78,6 +78,7 @@ def test_a_batch_of_five_units_with_different_clearances(rv80e_problem, truth, t
     assert r.crank_clearance_um_per_unit == pytest.approx(clearances, abs=0.1)
     g = r.spread["crank_clearance_um"]
     assert g["measured_sigma"] == pytest.approx(np.std(clearances, ddof=1), rel=0.1) and g["predicted_sigma"] == 1.5
+    assert not r.lack_of_fit and r.flags == ()  # the model's own loops: nothing flagged (issue 36 item 6)
 
 
 def test_a_rigid_structure_is_not_identifiable(rv80e, rv80e_problem, tmp_path):
@@ -107,3 +108,38 @@ def test_a_te_file_or_another_rated_torque_cannot_be_calibrated(rv80e_problem, t
     with pytest.raises(InputError) as e:
         rb.calibrate(rv80e_problem, bench=[f, te])
     assert e.value.field == str(te) and "transmission-error" in str(e.value)
+
+
+def test_a_loop_the_model_did_not_make_is_flagged(rv80e_problem, truth, tmp_path):
+    """Issue 36 item 6: a structure whose stiffness falls with load (500 -> 250 N m/arcmin over
+    0..T_R, beside the model's 400) fits to tight intervals and a clearance at its bound (zero);
+    both are flagged - lack of fit with where along the loop it sits, the bound - in the result,
+    its JSON and the written design's comments. Before: no flag (residual 46x the noise)."""
+    t, q, a = model_loop_samples(truth, cycles=2, samples_per_branch=250, noise_arcmin=0.003, offset_arcmin=2.0, seed=3)
+    softening = q / (500.0 - 250.0 * np.abs(q) / 784.0) - q / TRUE_K  # [arcmin]
+    f = write_loop_csv(tmp_path / "held_out.csv", t, q, a + softening)
+    r = calibrate(rv80e_problem, [f], bootstrap=0)
+    assert r.lack_of_fit and r.residual_over_expected > 10
+    assert r.residual_rms_arcmin > 10 * r.expected_residual_arcmin
+    worst = max(r.misfit, key=lambda s: s.over_expected)
+    assert worst.over_expected > 10 and worst.samples > 0
+    assert {s.branch for s in r.misfit} == {"load+", "unload+", "load-", "unload-"}
+    assert r.flags[0].startswith("lack of fit") and f"{worst.branch} " in r.flags[0]
+    g = r.parameter("crank_clearance_offset_um")
+    assert g.at_bound == "lower" and g.value == pytest.approx(-NOMINAL_CLEARANCE, abs=1e-3)
+    assert any(x.startswith("crank_clearance_offset_um at its lower bound") for x in r.flags)
+    d = r.to_dict()
+    assert d["lack_of_fit"] is True and d["parameters"][2]["at_bound"] == "lower" and len(d["misfit"]) == 16
+    header = calibration_header(r)
+    assert "WARNING, lack of fit" in header and "WARNING, crank_clearance_offset_um at its lower bound" in header
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01])
+def test_the_models_own_loop_is_not_flagged(rv80e_problem, truth, tmp_path, noise):
+    """The model's own loop (noiseless: the model's resolution is all the residual; with noise, two
+    cycles, offset, drift) fits without a flag."""
+    f = unit_file(truth, tmp_path / "u.csv", 6.0, seed=3, noise=noise)
+    r = calibrate(rv80e_problem, [f], bootstrap=0)
+    assert not r.lack_of_fit and r.flags == () and r.residual_over_expected < 1.1
+    assert all(p.at_bound is None for p in r.parameters)
+    assert max(s.over_expected for s in r.misfit) < 1.25

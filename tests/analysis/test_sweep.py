@@ -434,3 +434,43 @@ values = [0, 8]
                        specs={"backlash": 3.0, "transmission_error": 60.0}, workers=1)
         te = run.outputs["transmission_error"]
         assert row["transmission_error_mean"] == te.mean and row["transmission_error_yield"] == te.yield_.fraction
+
+
+def test_an_elastic_sweep_with_a_life_spec_gives_the_life_columns(tmp_path):
+    """A life spec (specs.life, the output's name, as simulate's --spec-life-h sets it) gives every
+    point the elastic model's life columns and the joint yield with them, the numbers simulate gives
+    on the point's stream; ``life = true`` gives the columns without a spec; the linear model refuses."""
+    text = """
+design = "rv80e"
+model = "elastic"
+samples = 300
+seed = 3
+
+[specs]
+lost_motion = 2.5
+life = 2500.0
+
+[[parameters]]
+path = "second_stage.equidistance_modification_um"
+values = [0, 8]
+"""
+    plan = plan_sweep(write(tmp_path, text))
+    assert {"life", "rated_torque", "weakest_bearing_life", "max_pin_stress"} <= {o.name for o in plan.outputs}
+    rows = run_sweep(plan, scheduler="inline").rows()
+    for i, row in enumerate(rows):
+        run = simulate(prepare(plan.designs[i]), model="elastic", samples=300, seed=3, stream=(i,),
+                       specs={"lost_motion": 2.5, "life": 2500.0}, workers=1)
+        assert row["life_mean"] == run.outputs["life"].mean and row["life_yield"] == run.outputs["life"].yield_.fraction
+        assert row["rated_torque_q50"] == next(q.value for q in run.outputs["rated_torque"].quantiles
+                                               if q.probability == 0.5)
+        assert row["joint_yield"] == run.joint_yield.fraction
+    no_spec = plan_sweep(write(tmp_path, text.replace("life = 2500.0", "").replace("seed = 3", "seed = 3\nlife = true"),
+                               "t.toml"))
+    assert "life" in {o.name for o in no_spec.outputs} and no_spec.fingerprint != plan.fingerprint
+    # a sweep without the field keeps its fingerprint (life false is left out of it)
+    plain_text = text.replace("life = 2500.0", "")
+    assert plan_sweep(write(tmp_path, plain_text, "u.toml")).fingerprint == \
+        plan_sweep(write(tmp_path, plain_text.replace("seed = 3", "seed = 3\nlife = false"), "v.toml")).fingerprint
+    e = error_of(LINEAR.format(samples=100).replace("spec_arcmin = 2.0", "spec_arcmin = 2.0\n[specs]\nlife = 6000.0"),
+                 tmp_path)
+    assert e.field == "specs.life" and "elastic" in str(e)

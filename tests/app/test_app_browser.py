@@ -20,6 +20,9 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 SAMPLES = 2000
 LOST_MOTION = '[data-key="lost_motion.yield"]'
+CAPACITY_KEYS = ("capacity.derived_rated_torque_nm", "capacity.reducer_life_h", "capacity.momentary_maximum_torque_nm",
+                 "capacity.limiting_element", "capacity.moment_rigidity_nm_per_arcmin", "capacity.allowable_moment_nm",
+                 "trade.lost_motion_arcmin")
 
 
 def shown(page) -> str:
@@ -65,10 +68,27 @@ def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
         after_change(page, lambda: (page.fill("#samples", str(SAMPLES)), page.dispatch_event("#samples", "change")))
         before = float(page.get_attribute(LOST_MOTION, "data-value"))
 
+        # the capacity card (elastic model): the datasheet and the point of lost motion against life
+        page.wait_for_function("document.body.dataset.capacityShown == String(window.workbench.seq)",
+                               timeout=300_000)
+        card = {k: page.get_attribute(f'#capacity-card [data-key="{k}"]', "data-value") for k in CAPACITY_KEYS}
+        first_point = page.evaluate("window.workbench.trade.map((p) => [p.label, p.lost_motion_arcmin])")
+        assert page.is_visible("#capacity-section") and page.inner_text("#capacity-error") == ""
+
         after_change(page, lambda: page.select_option("#grade-cycloid", "3"))
         after = float(page.get_attribute(LOST_MOTION, "data-value"))
         joint = float(page.get_attribute('[data-key="joint.yield"]', "data-value"))
         assert after != before
+        # a what-if of the modification: the card's point moves, the loaded design's point stays on the figure
+        mod = "#mod-equidistance_modification_um"
+        after_change(page, lambda: (page.fill(mod, "2"), page.dispatch_event(mod, "change")))
+        page.wait_for_function("document.body.dataset.capacityShown == String(window.workbench.seq)",
+                               timeout=300_000)
+        what_if_lost_motion = float(page.get_attribute('#capacity-card [data-key="trade.lost_motion_arcmin"]',
+                                                       "data-value"))
+        trade_points = page.evaluate("window.workbench.trade.map((p) => [p.label, p.lost_motion_arcmin])")
+        trade_traces = page.evaluate("document.querySelector('#fig-trade').data.length")
+        after_change(page, lambda: (page.fill(mod, "5"), page.dispatch_event(mod, "change")))
         with page.expect_download() as download:
             page.click("#dl-design")
         design = tmp_path / "edited.toml"
@@ -114,3 +134,27 @@ def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
     assert demand_line == ""  # beside its control, not in the line under the buttons
     assert spec_message.startswith("specs.arcmin = -1.0: allowed: a finite number > 0"), (spec_message, run_line)
     assert run_line == ""
+    # the capacity card shows what `rvbacklash capacity --json` gives for the design as loaded
+    cap = run_cli("capacity", "rv80e", "--json", "-")
+    assert cap.returncode == 0, cap.stderr
+    theirs = json.loads(cap.stdout)
+    assert float(card["capacity.derived_rated_torque_nm"]) == theirs["derived_rated_torque_nm"]
+    assert float(card["capacity.reducer_life_h"]) == theirs["reducer_life_h"]
+    assert float(card["capacity.momentary_maximum_torque_nm"]) == theirs["momentary_maximum_torque_nm"]
+    assert card["capacity.limiting_element"] == theirs["limiting_element"]
+    assert float(card["capacity.moment_rigidity_nm_per_arcmin"]) == \
+        theirs["main_bearings"]["moment_rigidity_nm_per_arcmin"]
+    assert float(card["capacity.allowable_moment_nm"]) == theirs["main_bearings"]["allowable_moment_nm"]
+    loop = json.loads(run_cli("hysteresis", "rv80e", "--json", "-").stdout)
+    assert first_point == [["the design as loaded", loop["lost_motion_arcmin"]]]
+    assert float(card["trade.lost_motion_arcmin"]) == loop["lost_motion_arcmin"]
+    # the what-if's point beside the loaded design's (and the cycloid grade's, which moved the hole clearance)
+    labels = [label for label, _ in trade_points]
+    assert labels[0] == "the design as loaded" and labels[-1].endswith("equidistance_modification_um = 2")
+    assert trade_points[-1][1] == what_if_lost_motion and trade_traces == 2
+    from rvbacklash import api
+    from rvbacklash.app.designs import edited_text
+    from rvbacklash.design.loading import design_from_toml, example_text
+
+    what_if = edited_text(example_text("rv80e"), {"grades.cycloid": 3, "second_stage.equidistance_modification_um": 2})
+    assert what_if_lost_motion == api.hysteresis(design_from_toml(what_if)).lost_motion_arcmin

@@ -153,6 +153,10 @@ def test_bad_input_names_its_field_in_one_line(client, body, field, fragment):
     ({"spec_arcmin": -3, "yield": 0.99}, "spec_arcmin", "spec_arcmin = -3.0: allowed: a finite number > 0"),
     ({"spec_arcmin": 3, "yield": 0.99, "model": "contact", "spec_rigidity_nm_per_arcmin": 400},
      "spec_rigidity_nm_per_arcmin", "spec_rigidity_nm_per_arcmin = 400.0"),
+    ({"spec_arcmin": 3, "yield": 0.99, "spec_life_h": 6000}, "spec_life_h",
+     "spec_life_h = 6000.0: the life outputs come from the elastic model"),
+    ({"spec_arcmin": 3, "yield": 0.99, "model": "elastic", "spec_rated_torque_nm": -1}, "spec_rated_torque_nm",
+     "spec_rated_torque_nm = -1.0: allowed: a finite number > 0"),
 ])
 def test_an_allocations_bad_input_names_the_requests_field(client, body, field, fragment):
     """The request's "yield", not the API's yield_target (issue 35, 2.10)."""
@@ -298,3 +302,31 @@ def test_the_report_downloads_as_html(client):
     r = client.post("/api/report", json={"design": "sun2014", "samples": 2000, "seed": 1, "specs": {"arcmin": 3}})
     assert r.status_code == 200 and r.text.startswith("<!DOCTYPE html>")
     assert "attachment" in r.headers["content-disposition"] and "sun2014" in r.text
+
+
+def test_the_capacity_card_answers_the_clis_json_and_the_trade(client):
+    """The card's datasheet is `rvbacklash capacity --json` (less the loads over a revolution); its point of
+    lost motion against life is the API's capacity_trade of the edited design alone."""
+    import rvbacklash as rb
+    from rvbacklash.app.designs import edited_text
+
+    edits = {"second_stage.equidistance_modification_um": 2.0}
+    r = client.post("/api/capacity", json={"design": "rv80e", "edits": edits, "request_id": 5})
+    assert r.status_code == 200, r.text
+    card = r.json()
+    text = edited_text(example_text("rv80e"), edits)
+    theirs = rb.capacity(rb.load_design("rv80e").model_validate(tomllib.loads(text))).to_dict()
+    theirs.pop("loads")
+    assert card["capacity"] == json.loads(render_json({"capacity": theirs}))["capacity"]
+    assert card["schema_version"] and card["rvbacklash_version"]
+    point = card["trade"]["points"][0]
+    assert point["equidistance_modification_um"] == 2.0 and card["trade"]["points"][0]["edits"] == {}
+    alone = rb.capacity_trade(rb.load_design("rv80e").model_validate(tomllib.loads(text)), what_ifs=()).points[0]
+    assert point["lost_motion_arcmin"] == alone.lost_motion_arcmin
+    assert point["reducer_life_h"] == alone.reducer_life_h
+    assert card["capacity"]["limiting_element"] and card["capacity"]["main_bearings"]["allowable_moment_nm"] > 0
+    # bad input: one line naming the request's field; a design without [structure] says so
+    bad = client.post("/api/capacity", json={"design": "rv80e", "angles": 0})
+    assert bad.status_code == 422 and bad.json()["field"] == "angles"
+    none = client.post("/api/capacity", json={"design": "sun2014"})
+    assert none.status_code == 422 and none.json()["field"] in ("elastic", "structure"), none.text

@@ -58,6 +58,12 @@ def test_allocate_json_on_stdout():
     (("--spec-arcmin", "3", "--yield", "0.99", "--spec-rigidity-nm-per-arcmin", "100"),
      "--spec-rigidity-nm-per-arcmin"),
     (("--spec-arcmin", "3", "--yield", "0.99", "--model", "nonsense", "-n", "2048"), "--model"),
+    # life specs: the elastic model's (as simulate's --spec-life-h), checked before any candidate runs
+    (("--spec-arcmin", "3", "--yield", "0.99", "--spec-life-h", "6000"), "--spec-life-h = 6000.0: the life outputs"),
+    (("--spec-arcmin", "3", "--yield", "0.99", "--model", "contact", "--spec-rated-torque-nm", "700"),
+     "--spec-rated-torque-nm = 700.0: the life outputs come from the elastic model"),
+    (("--spec-arcmin", "3", "--yield", "0.99", "--model", "elastic", "--spec-life-h", "-5"),
+     "--spec-life-h = -5.0: allowed: a finite number > 0 [h]"),
 ])
 def test_allocate_errors_are_one_line(args, fragment):
     one_line_error(run_cli("allocate", "rv80e", *args), fragment)

@@ -85,6 +85,30 @@ def test_calibrate_writes_a_design_that_reproduces_the_loop(loop_file, tmp_path)
     for k in ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin"):
         assert abs(model[k] - measured[k]) <= measured["uncertainty_k2"][k], k
     assert svg.read_text().lstrip().startswith(("<?xml", "<svg"))
+    assert "lack of fit" not in p.stdout and "BOUND" not in p.stdout and "WARNING" not in text
+    assert d["lack_of_fit"] is False and d["flags"] == []
+
+
+def test_calibrate_flags_a_loop_the_model_did_not_make(truth, tmp_path, monkeypatch):
+    """Issue 36 item 6 end to end: a stiffness falling with load (500 -> 250 N m/arcmin) - the
+    table flags the misfit and the clearance at its bound and shows where the misfit sits, the
+    JSON says so (schema-valid), the written design's comments carry both warnings."""
+    t, q, a = model_loop_samples(truth, cycles=1, samples_per_branch=200, noise_arcmin=0.003, seed=3)
+    f = write_loop_csv(tmp_path / "held out.csv", t, q, a + q / (500.0 - 250.0 * np.abs(q) / 784.0) - q / 400.0)
+    out, js = tmp_path / "calibrated.toml", tmp_path / "c.json"
+    monkeypatch.setenv("COLUMNS", "250")  # the table's cells unwrapped
+    p = run_cli("calibrate", "rv80e", "--bench", f, "--write-design", out, "--json", js)
+    assert p.returncode == 0, p.stderr
+    for text in ("AT LOWER BOUND: no estimate", "LACK OF FIT: interval too narrow", "Where the misfit sits",
+                 "warning: lack of fit", "warning: crank_clearance_offset_um at its lower bound"):
+        assert text in p.stdout, text
+    d = json.loads(js.read_text())
+    jsonschema.validate(d, output_schema("calibrate"))
+    assert d["lack_of_fit"] is True and d["residual_over_expected"] > 10 and len(d["flags"]) == 2
+    assert [x["at_bound"] for x in d["parameters"]] == [None, None, "lower"]
+    comments = [line for line in out.read_text().splitlines() if line.startswith("# WARNING, ")]
+    bound = f"# WARNING, crank_clearance_offset_um at its lower bound -4.5 um (zero clearance) for {f}"
+    assert [c.split(":")[0] for c in comments] == ["# WARNING, lack of fit", bound]
 
 
 # --- bad data: one line naming the file and the column, exit 2, nothing written ----------------------

@@ -3,8 +3,6 @@ the partial results (a second press) — exit 130, partial results marked, no tr
 
 import json
 import os
-import pty
-import re
 import signal
 import subprocess
 import sys
@@ -14,42 +12,12 @@ from pathlib import Path
 import pytest
 
 import rvbacklash
-
-
-def _interrupt_when_sampling(args: list[str], cwd, again_after: float | None = None) -> tuple[int, str]:
-    """Run a command on a pseudo-terminal (so that it draws its progress bar), send SIGINT once
-    the bar shows finished samples (and a second one ``again_after`` seconds later), return (exit
-    code, what it printed on the tty)."""
-    master, slave = pty.openpty()
-    proc = subprocess.Popen([sys.executable, "-m", "rvbacklash", *map(str, args)], stdin=slave, stdout=slave,
-                            stderr=slave, cwd=cwd, env={**os.environ, "COLUMNS": "120"})
-    os.close(slave)
-    seen = b""
-    deadline = time.monotonic() + 900  # a guard: an empty numba cache on a loaded machine compiles for minutes
-    sent = False
-    while time.monotonic() < deadline:
-        try:
-            chunk = os.read(master, 4096)
-        except OSError:
-            break
-        if not chunk:
-            break
-        seen += chunk
-        if not sent and re.search(rb"sampling\S*\s.*?\b[1-9][0-9]*/[0-9]+", seen):
-            proc.send_signal(signal.SIGINT)
-            sent = True
-            if again_after is not None:
-                time.sleep(again_after)
-                proc.send_signal(signal.SIGINT)
-    proc.wait(timeout=60)
-    os.close(master)
-    assert sent, seen.decode(errors="replace")[-2000:]
-    return proc.returncode, seen.decode(errors="replace")
+from helpers import interrupt_on_progress
 
 
 def test_ctrl_c_in_simulate_keeps_what_was_sampled(tmp_path):
     out = tmp_path / "s.json"
-    code, tty = _interrupt_when_sampling(["simulate", "sun2014", "--samples", "1e10", "--seed", "1", "--json", out],
+    code, tty = interrupt_on_progress(["simulate", "sun2014", "--samples", "1e10", "--seed", "1", "--json", out],
                                          tmp_path)
     assert code == 130 and "Traceback" not in tty
     d = json.loads(out.read_text())
@@ -62,7 +30,7 @@ def test_ctrl_c_in_simulate_keeps_what_was_sampled(tmp_path):
 def test_ctrl_c_in_compare_stops_every_scenario(tmp_path):
     """Regression (issue 9): compare ran the other scenarios, exited 0 and claimed every sample."""
     out = tmp_path / "c.json"
-    code, tty = _interrupt_when_sampling(["compare", "rv80e", "--paper", "-n", "1e10", "--json", out], tmp_path)
+    code, tty = interrupt_on_progress(["compare", "rv80e", "--paper", "-n", "1e10", "--json", out], tmp_path)
     assert code == 130 and "Traceback" not in tty
     d = json.loads(out.read_text())
     assert d["partial"] is True and len(d["scenarios"]) == 1 and len(d["scenarios_requested"]) == 4
@@ -72,7 +40,7 @@ def test_ctrl_c_in_compare_stops_every_scenario(tmp_path):
 def test_ctrl_c_in_report_marks_every_output(tmp_path):
     """Regression (issue 9): report exited 0 with no notice and a Run table claiming 1e9 samples."""
     html, js, csv = tmp_path / "r.html", tmp_path / "r.json", tmp_path / "r.csv"
-    code, _ = _interrupt_when_sampling(["report", "rv80e", "--paper", "-n", "1e10", "-o", html, "--json", js,
+    code, _ = interrupt_on_progress(["report", "rv80e", "--paper", "-n", "1e10", "-o", html, "--json", js,
                                         "--csv", csv], tmp_path)
     assert code == 130
     page = html.read_text()
@@ -92,7 +60,7 @@ def test_a_second_ctrl_c_does_not_break_writing_the_partial_results(tmp_path, ag
     written. Once a stop is requested, further presses are ignored until the partial results are
     written; the CSV is marked partial too (it was not)."""
     out, csv_out = tmp_path / "out.json", tmp_path / "out.csv"
-    code, tty = _interrupt_when_sampling(["simulate", "rv80e", "--model", "elastic", "-n", "1e7", "--json", out,
+    code, tty = interrupt_on_progress(["simulate", "rv80e", "--model", "elastic", "-n", "1e7", "--json", out,
                                           "--csv", csv_out], tmp_path, again_after=again_after)
     assert code == 130 and "Traceback" not in tty and "Error" not in tty, tty[-2000:]
     d = json.loads(out.read_text())

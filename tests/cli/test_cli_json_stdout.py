@@ -41,6 +41,8 @@ def files(tmp_path_factory, rv80e):
     (d / "sweep.toml").write_text(SWEEP)
     t, q, a = model_loop_samples(rb.prepare(rv80e), cycles=1, samples_per_branch=150, noise_arcmin=0.01, seed=3)
     write_loop_csv(d / "loop.csv", t, q, a)
+    assert run_cli("assemble", "rv80e", "--generate", "3", "--seed", "1", "--units", d / "batch.toml",
+                   "--parts", d / "parts.csv").returncode == 0
     return d
 
 
@@ -56,9 +58,14 @@ def invocations(d) -> dict[str, list]:
         "allocate": ["allocate", d / "costs.toml", "--spec-arcmin", "3", "--yield", "0.99"],
         "hysteresis": ["hysteresis", "rv80e", "--points", "5"],
         "transmission-error": ["transmission-error", "rv80e"],
+        "capacity": ["capacity", "rv80e", "--angles", "8"],
         "bench": ["bench", d / "loop.csv"],
         "calibrate": ["calibrate", "rv80e", "--bench", d / "loop.csv", "-n", "0"],
         "sweep": ["sweep", d / "sweep.toml", "--out", d / "sweep-out", "--scheduler", "inline", "--force"],
+        "efficiency": ["efficiency", "rv80e", "--angles", "4"],
+        "assemble": ["assemble", "rv80e", "--units", d / "batch.toml", "--parts", d / "parts.csv"],
+        "service-life": ["service-life", "rv80e", "--duty-cycle", "robot-joint", "--hours", "0,100", "-n", "20",
+                         "--angles", "6"],
     }
 
 

@@ -33,6 +33,10 @@ def _outputs():
         "transmission-error": rb.transmission_error(p, positions=400),
         "contact": rb.contact(p),
         "capacity": rb.capacity(p, angles=6),
+        "efficiency": _efficiency(p),
+        "assemble": rb.assemble(p, units=rb.generate_batch(p, units=3, seed=1)[0],
+                                parts=rb.generate_batch(p, units=3, seed=1)[1], spec_lost_motion_arcmin=1.0)[0],
+        "service-life": rb.service_life(p, duty_cycle="robot-joint", hours=[0, 200], samples=50, angles=6),
         **_bench_outputs(p),
     }
 
@@ -52,6 +56,16 @@ def _bench_outputs(p):
             "calibrate": rb.calibrate(p, bench=loop, bootstrap=0)}
 
 
+def _efficiency(p):
+    """rv80e's efficiency datasheet with a duty cycle (its thermal balance), on a small grid."""
+    from rvbacklash.analysis.losses import efficiency_rating
+    from rvbacklash.design.duty_cycle import DutyCycle, DutyStep
+
+    return efficiency_rating(rb.prepare(p), angles=4, torque_fractions=(1.0,), output_speeds_rpm=(15.0,),
+                             temperatures_c=(40.0,), input_speeds_rpm=(1000.0,),
+                             duty_cycle=DutyCycle("test", (DutyStep(1.0, 15.0, 784.0),)))
+
+
 @pytest.fixture(scope="module")
 def outputs():
     return _outputs()
@@ -61,7 +75,8 @@ def test_every_listed_output_has_a_schema():
     from rvbacklash.cli.commands import SchemaOutput
 
     assert set(OUTPUTS) == {"simulate", "analyze", "hysteresis", "allocate", "sensitivity", "sweep",
-                            "transmission-error", "contact", "bench", "calibrate", "capacity"}
+                            "transmission-error", "contact", "bench", "calibrate", "capacity",
+                            "efficiency", "assemble", "service-life"}
     assert {m.value for m in SchemaOutput} == set(OUTPUTS)  # `schema --output` offers every one
 
 

@@ -14,13 +14,23 @@ A hysteresis file (torque, output angle, maybe time; design/bench_files.py) goes
    line through the arriving stretch's samples there) against time: a common slope for both
    signs (least squares), removed from every sample; needs two such readings of one sign;
 4. averaging: each branch on a common torque grid (GRID_POINTS plus the definitions' torques):
-   at each node a local quadratic fit of angle against torque over +-WINDOW_FRACTION T_R (at least
-   MIN_FIT_POINTS samples) of every cycle's samples; load branches keep only their nodes beyond
-   the dead band (|T| >= x T_R) and start at the branch they continue (load+(0) = unload-(0)):
-   the jump through the dead bands is no function of torque;
+   at each node a local cubic fit of angle against torque of the k nearest samples of every
+   cycle, k growing by sqrt 2 while the wider fit agrees with the narrower ones and its form
+   error (the quadratic's value less the cubic's) is not significant, up to +-WINDOW_FRACTION T_R
+   (the data choose the window: narrow where the branch bends hardest, at the dead band's ends,
+   wide where it is straight). A turning point belongs to both branches it joins (a loop sampled
+   at the definitions' torques reaches T_R on its loading branch), a sample at zero torque to
+   both branches it joins. Load branches keep only their nodes beyond the dead band (|T| >= x T_R)
+   and start at the branch they continue (load+(0) = unload-(0)): the jump through the dead bands
+   is no function of torque; the unloading branch's end at T = 0 is fitted centred, with the
+   samples its stretch takes past zero before the jump (not one-sided);
 5. centring: the middle of the zero-torque width is 0 (as the model's loops);
-6. noise: sigma of the samples about the local fits (robust: 1.4826 MAD), each node's
-   standard deviation from its fit, propagated linearly through the reader to each figure.
+6. uncertainty: each figure is, linearised, a weighted sum of the samples (the reader's response
+   to each node times the node's fit weights); its noise part is that sum's standard deviation
+   with each sample's own noise (from differences of neighbouring samples, Gasser et al. 1986:
+   no fit enters), its reading part the fits' own bias - the form error and the change to the
+   next window, each counted where it stands out of its noise - added in quadrature
+   (``uncertainty_noise_k2``, ``uncertainty_reading_k2``; both k = 2).
 
 A TE file (output angle and TE, or output and input angle with the ratio) is averaged onto
 TE_POSITIONS equal steps of an output revolution (samples binned by position, the bins' means at
@@ -56,8 +66,11 @@ from rvbacklash.results import EXPORT, Result
 
 TURN_FRACTION = 0.2  # hysteresis threshold of the turning points, of the torque's range
 GRID_POINTS = 41  # nodes per branch (the definitions' torques are added)
-WINDOW_FRACTION = 0.01  # half-width of each node's local fit, of T_R
-MIN_FIT_POINTS = 8
+WINDOW_FRACTION = 0.05  # the widest half-width of a node's local fit, of T_R (the data choose the width)
+AGREEMENT = 3.0  # sigmas: a wider fit is taken while it agrees with the narrower ones (its form error not significant)
+JUMP_MARGIN = 0.25  # an unloading branch's end is fitted with its stretch's samples this share of the way to the jump
+LOCAL_NOISE = 41  # samples around each one whose differences give its own noise
+MIN_FIT_POINTS = 8  # samples a branch needs
 REACH_TOLERANCE = 0.02  # a branch reaches a torque if it comes within this fraction of T_R of it (fit extrapolates)
 TE_POSITIONS = 1024
 LEADING_ORDERS = 8
@@ -100,7 +113,7 @@ class BenchLoop(Result):
     samples: int
     cycles: int  # peaks of each sign (the fewer): cycles whose turning points the file holds
     branch_stretches: dict[str, int]  # stretches found per branch, partial ones included
-    noise_arcmin: float  # sigma of the samples about the local fits
+    noise_arcmin: float  # sigma of the samples about the loop (from differences of neighbouring samples)
     drift_arcmin_per_s: float | None  # removed; per sample when the file has no time column; None: not estimated
     drift_per: str  # s | sample
     centring_offset_arcmin: float  # the angle subtracted: the middle of the zero-torque width
@@ -113,6 +126,9 @@ class BenchLoop(Result):
     branch_index: np.ndarray = field(default=None, metadata={EXPORT: False})  # into BRANCHES
     node_sigma_arcmin: dict = field(default=None, metadata={EXPORT: False})
     metadata: tuple[str, ...] = ()  # the file's lines above its header (a rig's metadata), as written
+    uncertainty_noise_k2: dict[str, float] = field(default_factory=dict)  # the part of uncertainty_k2 from the noise
+    uncertainty_reading_k2: dict[str, float] = field(default_factory=dict)  # and from the reader's own fits (bias)
+    sample_sigma_arcmin: np.ndarray = field(default=None, metadata={EXPORT: False})  # each sample's own noise
 
     def figures(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in FIGURES}
@@ -237,7 +253,8 @@ class BenchResult(Result):
 def turning_points(torque: np.ndarray, threshold: float) -> list[int]:
     """Indices of the torque's alternating extremes (zig-zag): an extreme is confirmed once the
     torque has moved back from it by more than ``threshold`` [N m]; the first and last samples
-    are not turning points."""
+    are not turning points, nor is a first extreme within a quarter of the threshold of the first
+    sample (a record starting at zero torque: the sensor's noise before the first real stretch)."""
     ext: list[int] = []
     mode, hi, lo = 0, 0, 0
     for i in range(1, torque.size):
@@ -251,11 +268,15 @@ def turning_points(torque: np.ndarray, threshold: float) -> list[int]:
         elif mode <= 0 and torque[i] - torque[lo] > threshold:
             ext.append(lo)
             mode, hi = 1, i
-    return [k for k in ext if 0 < k < torque.size - 1]
+    ext = [k for k in ext if 0 < k < torque.size - 1]
+    if ext and abs(torque[ext[0]] - torque[0]) < 0.25 * threshold:
+        ext = ext[1:]
+    return ext
 
 
 def _stretches(torque: np.ndarray, turns: list[int]) -> list[tuple[int, int, int, bool]]:
-    """(start, stop, direction +1 rising / -1 falling, complete: between two turning points)."""
+    """(start, stop, direction +1 rising / -1 falling, complete: between two turning points); a
+    turning point ends one stretch and starts the next (both hold it)."""
     bounds = [0, *turns, torque.size - 1]
     out = []
     for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
@@ -268,12 +289,28 @@ def _stretches(torque: np.ndarray, turns: list[int]) -> list[tuple[int, int, int
 
 def _label(torque: np.ndarray, stretches) -> np.ndarray:
     """Branch index of every sample (BRANCHES order): rising -> unload- below 0, load+ from 0;
-    falling -> unload+ from 0, load- below."""
+    falling -> unload+ from 0, load- below. A turning point is labelled by the stretch it starts
+    (the branches it belongs to: ``_members``)."""
     idx = np.empty(torque.size, int)
     for a, b, d, _ in stretches:
         t = torque[a:b + 1]
         idx[a:b + 1] = np.where(t >= 0, 0, 3) if d > 0 else np.where(t >= 0, 1, 2)
     return idx
+
+
+def _members(torque: np.ndarray, stretches) -> np.ndarray:
+    """(4, samples) which branches each sample belongs to (BRANCHES order): a rising stretch's
+    samples at T <= 0 to unload-, at T >= 0 to load+; a falling one's at T >= 0 to unload+, at
+    T <= 0 to load-. A turning point belongs to the branch that arrives at it and to the one that
+    leaves it, a sample at exactly zero torque to both branches it joins: each branch holds its
+    own ends (a loop sampled at the definitions' torques, as the model writes it, reaches T_R)."""
+    out = np.zeros((len(BRANCHES), torque.size), bool)
+    for a, b, d, _ in stretches:
+        t = torque[a:b + 1]
+        up, down = (0, 3) if d > 0 else (1, 2)
+        out[up, a:b + 1] |= t >= 0
+        out[down, a:b + 1] |= t <= 0
+    return out
 
 
 def _drift(time: np.ndarray, angle: np.ndarray, torque: np.ndarray, stretches, span: float) -> float | None:
@@ -307,21 +344,187 @@ def _drift(time: np.ndarray, angle: np.ndarray, torque: np.ndarray, stretches, s
     return num / den if den > 0 else None
 
 
-def _local_fit(t: np.ndarray, a: np.ndarray, at: float, half: float) -> tuple[float, float, np.ndarray] | None:
-    """Angle at torque ``at`` from a quadratic fit of the samples within +-half (widened to the
-    MIN_FIT_POINTS nearest): (value, sqrt of the value's variance factor, residuals); None: too few samples."""
-    if t.size < MIN_FIT_POINTS:
-        return None
+def _middle_guess(torque: np.ndarray, angle: np.ndarray, stretches) -> float:
+    """The loop's middle angle before it is read: the mean of the median angles at which the
+    rising and the falling stretches cross zero torque (interpolated between the two samples
+    around the crossing); without a crossing of each kind, the middle of the angles at the torque's
+    extremes."""
+    at_zero: dict[int, list[float]] = {1: [], -1: []}
+    for a, b, d, _ in stretches:
+        t, y = torque[a:b + 1] * d, angle[a:b + 1]  # rising in t
+        cross = np.nonzero((t[:-1] < 0) & (t[1:] >= 0))[0]
+        if cross.size:
+            i = int(cross[0])
+            w = -t[i] / (t[i + 1] - t[i])
+            at_zero[d].append(float(y[i] + w * (y[i + 1] - y[i])))
+    if at_zero[1] and at_zero[-1]:
+        return 0.5 * (float(np.median(at_zero[1])) + float(np.median(at_zero[-1])))
+    return 0.5 * (float(angle[np.argmax(torque)]) + float(angle[np.argmin(torque)]))
+
+
+def _before_the_jump(torque: np.ndarray, angle: np.ndarray, stretches, members: np.ndarray,
+                     middle: float) -> tuple[np.ndarray, dict[str, float]]:
+    """Samples of the loading branches taken before the angle has crossed the loop's middle (the
+    jump through the dead bands at T = +-T_f: there the angle is still the stretch's unloading
+    branch, continued past zero torque), and for each loading branch the median |torque| of the
+    first sample past the jump (0 when no stretch crosses)."""
+    out = np.zeros(torque.size, bool)
+    where: dict[str, list[float]] = {"load+": [], "load-": []}
+    for a, b, d, _ in stretches:
+        k = 0 if d > 0 else 2  # load+ on a rising stretch, load- on a falling one
+        on = np.arange(a, b + 1)[members[k, a:b + 1]]
+        crossed = d * (angle[on] - middle) >= 0
+        first = int(np.argmax(crossed)) if crossed.any() else on.size
+        out[on[:first]] = True
+        if 0 < first < on.size:
+            where[BRANCHES[k]].append(abs(float(torque[on[first]])))
+    return out, {k: float(np.median(v)) if v else 0.0 for k, v in where.items()}
+
+
+def _noise(torque: np.ndarray, angle: np.ndarray, fit: np.ndarray) -> tuple[float, np.ndarray]:
+    """The noise of the samples about the loop [arcmin]: sigma, and each sample's own (the larger of
+    sigma and the noise of the LOCAL_NOISE samples around it on its branch: a torque sensor's noise
+    moves the angle by the branch's slope times it, most where the branch is steepest). From
+    differences (Gasser, Sroka & Jennen-Steinmetz, Biometrika 73, 1986): each sample against the
+    line through its neighbours in torque on its branch, e_i = [a_i - (1 - w) a_i-1 - w a_i+1] /
+    sqrt(1 + (1 - w)^2 + w^2), robust (1.4826 x the median absolute deviation; locally 1.4826 x
+    the median |e|). No fit enters: a noiseless loop reads about 0 (its curvature over two sample
+    steps), not a fit's misfit."""
+    parts, local = [], []
+    for k in range(fit.shape[0]):
+        sel = np.nonzero(fit[k])[0]
+        o = sel[np.argsort(torque[sel], kind="stable")]
+        t, a = torque[o], angle[o]
+        if t.size < 3:
+            continue
+        span = t[2:] - t[:-2]
+        ok = span > 0
+        w = np.where(ok, (t[1:-1] - t[:-2]) / np.where(ok, span, 1.0), 0.5)
+        e = (a[1:-1] - ((1 - w) * a[:-2] + w * a[2:])) / np.sqrt(1 + (1 - w) ** 2 + w ** 2)
+        e = np.abs(e[ok])
+        parts.append(e)
+        if e.size:
+            m = min(LOCAL_NOISE, e.size)
+            padded = np.pad(e, (m // 2, m - 1 - m // 2), mode="edge")
+            around = 1.4826 * np.median(np.lib.stride_tricks.sliding_window_view(padded, m), axis=1)
+            local.append((o[1:-1][ok], around))
+    r = np.concatenate(parts) if parts else np.zeros(0)
+    sigma = float(1.4826 * np.median(r)) if r.size else 0.0
+    each = np.full(torque.size, sigma)
+    for idx, around in local:
+        np.maximum.at(each, idx, around)
+    return sigma, each
+
+
+def _beyond_noise(kernel: np.ndarray, angle: np.ndarray, sigma: np.ndarray) -> float:
+    """|D| less its noise, sqrt(max(0, D^2 - sum (kernel_i sigma_i)^2)), of a difference D =
+    kernel . angle (the kernel sums to 0: a systematic departure, read where it stands out of the noise)."""
+    dv = float(kernel @ angle)
+    return math.sqrt(max(dv * dv - float(np.sum((kernel * sigma) ** 2)), 0.0))
+
+
+@dataclass(frozen=True)
+class NodeFit:
+    """One node of a branch averaged from its samples: value = weights . angle[samples]; the fit's
+    form error read as form_weights . angle[samples] (the quadratic's value less the cubic's over the
+    same samples) and its window's as shift_weights . angle[samples] (the next narrower fit's value
+    less this one's; the next wider one's for the narrowest)."""
+
+    value: float  # [arcmin]
+    samples: np.ndarray  # indices into the loop's samples
+    weights: np.ndarray  # the fit's equivalent kernel at the node (they sum to 1)
+    form_weights: np.ndarray  # (they sum to 0)
+    shift_weights: np.ndarray  # (they sum to 0)
+    window_nm: float  # the largest |T - node| of the samples fitted
+
+
+def _fit_sizes(first: int, count: int) -> list[int]:
+    """Numbers of nearest samples tried at a node: ``first``, then by a factor sqrt 2 to ``count``."""
+    out, k = [first], float(first)
+    while True:
+        k *= math.sqrt(2.0)
+        if int(round(k)) >= count:
+            break
+        if int(round(k)) > out[-1]:
+            out.append(int(round(k)))
+    return out + [count] if count > out[-1] else out
+
+
+def _padded(w: np.ndarray, n: int) -> np.ndarray:
+    out = np.zeros(n)
+    out[:w.size] = w
+    return out
+
+
+def _distinct_prefix(t_sorted: np.ndarray, count: int) -> int | None:
+    """The fewest leading samples holding ``count`` distinct torques (None: the branch has fewer)."""
+    scale = max(float(np.max(np.abs(t_sorted))), 1.0) if t_sorted.size else 1.0
+    new = np.ones(t_sorted.size, bool)
+    seen: list[float] = []
+    for i, v in enumerate(t_sorted):
+        new[i] = all(abs(v - s) > 1e-9 * scale for s in seen)
+        if new[i]:
+            seen.append(float(v))
+            if len(seen) == count:
+                return i + 1
+    return None
+
+
+def _local_fit(t: np.ndarray, a: np.ndarray, sigma: np.ndarray, at: float, half: float) -> NodeFit | None:
+    """The angle at torque ``at`` from a cubic least-squares fit of the k nearest samples, k growing
+    by sqrt 2 from the fewest holding 4 distinct torques to every sample within +-``half`` (Lepski's
+    balance of bias and noise): a wider fit is taken while it agrees with every narrower one taken,
+    |f_k - f_j| <= AGREEMENT |(w_k - w_j) sigma|, and while its form error d - the quadratic's value
+    less the cubic's over the same samples - is not both significant (d^2 > AGREEMENT^2 var d) and
+    above the fit's own noise (d^2 - var d > |w_k sigma|^2). With 3 distinct torques only, the
+    quadratic through them. ``sigma``: each sample's noise. None: fewer than 3 distinct torques."""
     d = t - at
-    inside = np.abs(d) <= half
-    if inside.sum() < MIN_FIT_POINTS:
-        inside = np.zeros(t.size, bool)
-        inside[np.argsort(np.abs(d))[:MIN_FIT_POINTS]] = True
-    x = d[inside] / max(half, 1e-12)
-    basis = np.column_stack([np.ones_like(x), x, x * x])
-    coef, *_ = np.linalg.lstsq(basis, a[inside], rcond=None)
-    cov = np.linalg.pinv(basis.T @ basis)
-    return float(coef[0]), float(math.sqrt(max(cov[0, 0], 0.0))), a[inside] - basis @ coef
+    order = np.argsort(np.abs(d), kind="stable")
+    first = _distinct_prefix(d[order], 4)
+    if first is None:
+        first = _distinct_prefix(d[order], 3)
+        if first is None:
+            return None
+        idx = order[:first]
+        quad = _poly_weights(d[idx], 2)
+        zero = np.zeros(first)
+        return NodeFit(float(quad @ a[idx]), idx, quad, zero, zero, float(np.max(np.abs(d[idx]))))
+    within = int(np.count_nonzero(np.abs(d) <= half))
+    taken: list[tuple[int, float, np.ndarray, np.ndarray]] = []  # (k, value, weights, form weights)
+    rejected = None
+    for k in _fit_sizes(first, max(within, first)):
+        idx = order[:k]
+        s = sigma[idx]
+        cubic, quad = _poly_weights(d[idx], 3), _poly_weights(d[idx], 2)
+        value, form = float(cubic @ a[idx]), quad - cubic
+        fit = (k, value, cubic, form)
+        if taken:
+            dv, var = float(form @ a[idx]), float(np.sum((form * s) ** 2))
+            bent = dv * dv > AGREEMENT ** 2 * var and dv * dv - var > float(np.sum((cubic * s) ** 2))
+            apart = any(abs(value - fj) > AGREEMENT * float(np.linalg.norm((cubic - _padded(wj, k)) * s))
+                        for _, fj, wj, _ in taken)
+            if bent or apart:
+                rejected = fit
+                break
+        taken.append(fit)
+    k, value, w, form = taken[-1]
+    other = taken[-2] if len(taken) > 1 else rejected
+    n = max(k, other[0]) if other is not None else k
+    shift = _padded(other[2], n) - _padded(w, n) if other is not None else np.zeros(n)
+    return NodeFit(value, order[:n], _padded(w, n), _padded(form, n), shift, float(np.max(np.abs(d[order[:k]]))))
+
+
+def _poly_weights(d: np.ndarray, degree: int) -> np.ndarray | None:
+    """The equivalent kernel at d = 0 of a least-squares polynomial of ``degree`` in d: value = w . a;
+    None: fewer distinct d than coefficients."""
+    scale = float(np.max(np.abs(d))) if d.size else 0.0
+    if scale <= 0 or d.size <= degree:
+        return None
+    basis = np.vander(d / scale, degree + 1, increasing=True)
+    u, s, vt = np.linalg.svd(basis, full_matrices=False)
+    if s[-1] <= 1e-9 * s[0]:
+        return None
+    return (vt.T[0] / s) @ u.T
 
 
 def _grid(start: float, end: float, extra: Sequence[float]) -> np.ndarray:
@@ -347,11 +550,11 @@ def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring
     turns = turning_points(torque, TURN_FRACTION * span) if span > 0 else []
     stretches = _stretches(torque, turns)
     idx = _label(torque, stretches)
-    counts = {b: 0 for b in BRANCHES}
-    for a, b, d, _ in stretches:
-        for k in set(idx[a:b + 1].tolist()):
-            counts[BRANCHES[k]] += 1
-    missing = [b for b in BRANCHES if counts[b] == 0 or np.count_nonzero(idx == BRANCHES.index(b)) < MIN_FIT_POINTS]
+    members = _members(torque, stretches)
+    counts = {b: sum(int(np.count_nonzero(members[k, a:e + 1]) >= 2) for a, e, _, _ in stretches)
+              for k, b in enumerate(BRANCHES)}
+    missing = [b for k, b in enumerate(BRANCHES)
+               if counts[b] == 0 or np.count_nonzero(members[k]) < MIN_FIT_POINTS]
     if missing:
         found = [b for b in BRANCHES if b not in missing]
         raise InputError(col_t, allowed=f"found {', '.join(found) or 'no branch'} only (missing {', '.join(missing)}); "
@@ -366,7 +569,7 @@ def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring
     lo, hi = interval
     need = max(hi, *(h for _, h in SECANT_INTERVALS)) * tr
     for b, sign in (("load+", 1), ("load-", -1)):
-        reach = float(np.max(sign * torque[idx == BRANCHES.index(b)]))
+        reach = float(np.max(sign * torque[members[BRANCHES.index(b)]]))
         if reach < need - REACH_TOLERANCE * tr:
             raise InputError(col_t, allowed=f"{b} reaches {sign * reach:g} N m only; allowed: a loop reaching "
                                             f"{'+' if sign > 0 else '-'}{need:g} N m ({max(hi, 1.0):g} T_R, "
@@ -378,73 +581,104 @@ def read_loop(table: BenchTable, rated_torque_nm: float | None = None, measuring
     else:
         angle = angle - drift * (time - time[0])
     cycles = min(sum(torque[k] > 0 for k in turns), sum(torque[k] < 0 for k in turns))  # a peak of each sign
+    fit = members.copy()
+    jump, jump_nm = _before_the_jump(torque, angle, stretches, members, _middle_guess(torque, angle, stretches))
+    for load, end in (("load+", "unload-"), ("load-", "unload+")):
+        k = BRANCHES.index(load)
+        before = members[k] & jump
+        fit[k] &= ~(before & (np.abs(torque) < x))  # the loading branch is read from x T_R on, past its jump
+        # an unloading branch's end at zero torque is its stretch's angle there: read with the
+        # stretch's samples on both sides of zero, short of the jump (a fit centred at T = 0)
+        fit[BRANCHES.index(end)] |= before & (np.abs(torque) < JUMP_MARGIN * jump_nm[load])
+    noise, sigma = _noise(torque, angle, fit)
     half = WINDOW_FRACTION * tr
     secant_torques = tuple(f * tr for iv in SECANT_INTERVALS for f in iv)
     specs = (("load+", 0.0, tr, (x, lo * tr, hi * tr, *secant_torques)), ("unload+", tr, 0.0, (x,)),
              ("load-", 0.0, -tr, (-x, -lo * tr, -hi * tr, *(-s for s in secant_torques))), ("unload-", -tr, 0.0, (-x,)))
-    fitted: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
-    residuals = []
-    for name, start, end, extra in specs:
-        sel = idx == BRANCHES.index(name)
-        t, a = torque[sel], angle[sel]
-        nodes = _grid(start, end, extra)
-        if name.startswith("load"):
-            nodes = nodes[np.abs(nodes) >= x * (1 - 1e-12)]  # beyond the dead band's jump
-        values, factors = [], []
-        for node in nodes:
-            fit = _local_fit(t, a, float(node), half)
-            values.append(fit[0])
-            factors.append(fit[1])
-            residuals.append(fit[2])
-        fitted[name] = (nodes, np.array(values), np.array(factors))
-    r = np.concatenate(residuals)  # each fit took 3 degrees of freedom of its samples
-    dof = max(r.size - 3 * len(residuals), 1)
-    noise = float(1.4826 * np.median(np.abs(r - np.median(r))) * math.sqrt(r.size / dof))
-    # load branches start where the branch they continue ends (the jump is no function of torque)
-    for load, before in (("load+", "unload-"), ("load-", "unload+")):
-        n, v, f = fitted[load]
-        fitted[load] = (np.concatenate([[0.0], n]), np.concatenate([[fitted[before][1][-1]], v]),
-                        np.concatenate([[fitted[before][2][-1]], f]))
-    offset = 0.5 * (fitted["unload+"][1][-1] + fitted["unload-"][1][-1])
-    branches = {k: (n, v - offset) for k, (n, v, _) in fitted.items()}
-    sigmas = {k: noise * f for k, (_, _, f) in fitted.items()}
+    fitted = _average(torque, angle, sigma, fit, specs, x, half, col_t)
+    branches, offset = _centred(fitted)
     figs = loop_figures(branches, tr, measuring_fraction, interval)
-    unc = _propagate(branches, sigmas, tr, measuring_fraction, interval, figs)
+    kernel, form, shift = _responses(branches, fitted, angle.size, noise, tr, measuring_fraction, interval, figs)
+    u_noise = {k: float(np.linalg.norm(w * sigma)) for k, w in kernel.items()}
+    u_reading = {k: math.hypot(_beyond_noise(form[k], angle, sigma), _beyond_noise(shift[k], angle, sigma))
+                 for k in form}
     loop = tuple(HysteresisBranch(k, tuple(float(v) for v in branches[k][0]), tuple(float(v) for v in branches[k][1]))
                  for k in BRANCHES)
     secants = tuple(RigiditySecant(a, b, figs[secant_key(a, b)]) for a, b in SECANT_INTERVALS)
+    sigmas = {k: np.array([float(np.linalg.norm(f.weights * sigma[f.samples])) for f in fs])
+              for k, (_, fs) in fitted.items()}
+    unc = {k: 2.0 * math.hypot(u_noise[k], u_reading[k]) for k in FIGURES}
     return BenchLoop(
         where, "hysteresis", tr, rated_from, measuring_fraction, (float(lo), float(hi)), figs["lost_motion_arcmin"],
         figs["backlash_arcmin"], figs["torsional_rigidity_nm_per_arcmin"], secants, figs["hysteresis_loss_j"],
-        {k: 2.0 * unc[k] for k in FIGURES}, int(torque.size), int(cycles), counts, noise, drift,
+        unc, int(torque.size), int(cycles), counts, noise, drift,
         "s" if has_time else "sample", float(offset), peaks, tuple(notes), loop, (), torque, angle - offset, idx,
-        sigmas)
+        sigmas, uncertainty_noise_k2={k: 2.0 * u_noise[k] for k in FIGURES},
+        uncertainty_reading_k2={k: 2.0 * u_reading[k] for k in FIGURES}, sample_sigma_arcmin=sigma)
 
 
-def _propagate(branches, sigmas, tr, x, interval, figs) -> dict[str, float]:
-    """One standard deviation of each figure: the reader's linear response to each node's angle
-    (a step of that node's sigma) summed in quadrature (the nodes' fits share no sample)."""
-    var = {k: 0.0 for k in figs}
+def _average(torque, angle, sigma, fit, specs, x, half, col_t) -> dict[str, tuple[np.ndarray, list[NodeFit]]]:
+    """Each branch's nodes and their fits from the samples ``fit`` marks (step 4)."""
+    fitted: dict[str, tuple[np.ndarray, list[NodeFit]]] = {}
+    for name, start, end, extra in specs:
+        sel = np.nonzero(fit[BRANCHES.index(name)])[0]
+        t, a, s = torque[sel], angle[sel], sigma[sel]
+        nodes = _grid(start, end, extra)
+        if name.startswith("load"):
+            nodes = nodes[np.abs(nodes) >= x * (1 - 1e-12)]  # beyond the dead band's jump
+        fits = []
+        for node in nodes:
+            f = _local_fit(t, a, s, float(node), half)
+            if f is None:
+                raise InputError(col_t, allowed=f"{name} has fewer than 3 distinct torques; allowed: a loop whose "
+                                                f"branches are sampled at 3 torques or more")
+            fits.append(dataclasses.replace(f, samples=sel[f.samples]))
+        fitted[name] = (nodes, fits)
+    # load branches start where the branch they continue ends (the jump is no function of torque)
+    for load, before in (("load+", "unload-"), ("load-", "unload+")):
+        n, f = fitted[load]
+        fitted[load] = (np.concatenate([[0.0], n]), [fitted[before][1][-1], *f])
+    return fitted
+
+
+def _centred(fitted) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], float]:
+    """The branches with the middle of the zero-torque width at 0 (step 5), and that offset."""
+    values = {k: (n, np.array([f.value for f in fs])) for k, (n, fs) in fitted.items()}
+    offset = 0.5 * (values["unload+"][1][-1] + values["unload-"][1][-1])
+    return {k: (n, v - offset) for k, (n, v) in values.items()}, float(offset)
+
+
+def _responses(branches, fitted, samples, noise, tr, x, interval, figs) -> tuple[dict, dict]:
+    """Each figure as a weighted sum of the samples, linearised: kernel = sum_nodes g_node w_node
+    (g the reader's response to the node's angle, a finite step; w the node's fit), and its form
+    error's kernel = sum_nodes g_node (quadratic - cubic)_node. Nodes whose fits share samples are
+    correlated through them: counted exactly."""
+    kernel = {k: np.zeros(samples) for k in figs}
+    form = {k: np.zeros(samples) for k in figs}
+    shift = {k: np.zeros(samples) for k in figs}
     for name, (nodes, values) in branches.items():
-        for i, s in enumerate(sigmas[name]):
-            if s <= 0:
-                continue
+        for i, f in enumerate(fitted[name][1]):
+            if name.startswith("load") and i == 0:
+                continue  # that node is the unload branch's end, counted there
+            step = max(1e-6, 1e-3 * noise)
             moved = dict(branches)
             v = values.copy()
-            v[i] += s
+            v[i] += step
             moved[name] = (nodes, v)
             if name.startswith("unload") and i == len(v) - 1:  # the load branch starts at this node too
                 load = "load+" if name == "unload-" else "load-"
                 lv = branches[load][1].copy()
-                lv[0] += s
+                lv[0] += step
                 moved[load] = (branches[load][0], lv)
-            elif name.startswith("load") and i == 0:
-                continue  # that node is the unload branch's end, counted there
-            step = loop_figures(moved, tr, x, interval)
-            for k in var:
-                d = step[k] - figs[k]
-                var[k] += d * d if math.isfinite(d) else 0.0
-    return {k: math.sqrt(v) for k, v in var.items()}
+            after = loop_figures(moved, tr, x, interval)
+            for k in kernel:
+                g = (after[k] - figs[k]) / step
+                if not math.isfinite(g) or g == 0.0:
+                    continue
+                np.add.at(kernel[k], f.samples, g * f.weights)
+                np.add.at(form[k], f.samples, g * f.form_weights)
+                np.add.at(shift[k], f.samples, g * f.shift_weights)
+    return kernel, form, shift
 
 
 # --- transmission error -------------------------------------------------------------------------

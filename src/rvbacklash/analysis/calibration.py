@@ -27,6 +27,14 @@ InputError naming the parameter: a column of the scaled Jacobian (nearly) a comb
 others (condition number > IDENTIFIABLE_CONDITION), or a structure stiffness that runs off to
 rigid or whose standard error exceeds half its value (a loop of a stiff structure says only
 "stiffer than this").
+
+Fit quality: the intervals assume a model that follows the loops. The residual is set against
+what each sample's noise (the bench reader's, from differences: no fit enters) and the model's
+resolution (its interpolated loop against the loop solved at each sample's torque) explain; above
+LACK_OF_FIT_RATIO times that, ``lack_of_fit`` with the residuals per branch and |T| band
+(``misfit``: where it sits). A parameter left at a bound (any unit's clearance at zero, friction at
+zero, ...) is ``at_bound``: its value is no estimate. Both are in ``flags`` (the table, the JSON and
+the written design's comments).
 """
 
 from __future__ import annotations
@@ -55,6 +63,9 @@ IDENTIFIABLE_CONDITION = 1e6  # of the Jacobian scaled to unit columns: beyond, 
 MODEL_POINTS = 41  # loop nodes per branch the samples are interpolated on
 DENSE_NODES = np.linspace(0.0, 0.12, 21)[1:]  # and these fractions of T_R on every branch
 RIGID_NM_PER_ARCMIN = 1e9  # the schema's largest stated stiffness: the structure as good as rigid
+LACK_OF_FIT_RATIO = 1.25  # residual rms over what the noise and the model's resolution explain: beyond, a misfit
+SEGMENT_BANDS = (0.0, 0.1, 0.3, 0.6, 1.0)  # |T| / T_R bands along each branch where the misfit is shown
+KINDS = (RISE, FALL, FALL, RISE)  # of the BRANCHES
 
 
 @dataclass(frozen=True, repr=False)
@@ -67,6 +78,21 @@ class FittedParameter(Result):
     ci95_low: float
     ci95_high: float
     ci_from: str  # jacobian | bootstrap over units
+    at_bound: str | None = None  # lower | upper: the fit stops at a bound (for the clearance, of any unit)
+
+
+@dataclass(frozen=True, repr=False)
+class MisfitSegment(Result):
+    """The fit's residuals (measured less model) on one stretch of the loops: a branch and a band
+    of |T| / T_R, every unit's samples there."""
+
+    branch: str
+    from_fraction: float  # of T_R, |T|
+    to_fraction: float
+    samples: int
+    residual_rms_arcmin: float
+    residual_mean_arcmin: float
+    over_expected: float  # rms / what the noise and the model's resolution explain there
 
 
 @dataclass(frozen=True, repr=False)
@@ -96,6 +122,11 @@ class CalibrationResult(Result):
     before_loop: object = field(default=None, metadata={EXPORT: False})  # HysteresisResult
     after_loop: object = field(default=None, metadata={EXPORT: False})
     warnings: tuple[str, ...] = ()  # of the before/after figures, e.g. a lost motion read in a stick band
+    expected_residual_arcmin: float = math.nan  # rms the noise and the model's resolution explain
+    residual_over_expected: float = math.nan  # residual_rms_arcmin / expected_residual_arcmin
+    lack_of_fit: bool = False  # residual_over_expected > LACK_OF_FIT_RATIO: the intervals assume a model that fits
+    misfit: tuple[MisfitSegment, ...] = ()  # the residuals along the loop (branch, |T| band)
+    flags: tuple[str, ...] = ()  # lack of fit (where it sits), parameters at a bound
 
     def parameter(self, name: str) -> FittedParameter:
         return next(p for p in self.parameters if p.name == name)
@@ -136,21 +167,33 @@ class _Loops:
             return self._cache[key]
         if len(self._cache) > 64:
             self._cache.clear()
-        c = self.model.chain._replace(structure_stiffness_nm_per_rad=k_s * ARCMIN_PER_RAD, friction_nm=t_f)
-        model = dataclasses.replace(self.model, chain=c)
-        unit = self.unit._replace(crank_clearance_um=float(self.unit.crank_clearance_um + dg))
-        pu = PreparedUnit(model, unit)
-        loop, offset = build_loop(pu, MODEL_POINTS)
+        pu, loop, offset = self._prepared(k_s, t_f, dg)
         self.evaluations += 1
         out = {}
         tr = self.model.chain.rated_torque_nm
-        for b, kind, sign in zip(loop, (RISE, FALL, FALL, RISE), (1.0, 1.0, -1.0, -1.0)):
+        for b, kind, sign in zip(loop, KINDS, (1.0, 1.0, -1.0, -1.0)):
             # more nodes near zero torque, where the branches bend most (the contacts' first load)
             extra = sign * tr * DENSE_NODES
             angles = [(pu.branch(float(t), kind).sum() - offset) * ARCMIN_PER_RAD for t in extra]
             out[b.branch] = (np.concatenate([b.torque_nm, extra]), np.concatenate([b.angle_arcmin, angles]))
         self._cache[key] = out
         return out
+
+    def _prepared(self, k_s: float, t_f: float, dg: float):
+        c = self.model.chain._replace(structure_stiffness_nm_per_rad=k_s * ARCMIN_PER_RAD, friction_nm=t_f)
+        model = dataclasses.replace(self.model, chain=c)
+        unit = self.unit._replace(crank_clearance_um=float(self.unit.crank_clearance_um + dg))
+        pu = PreparedUnit(model, unit)
+        loop, offset = build_loop(pu, MODEL_POINTS)
+        return pu, loop, offset
+
+    def exact(self, k_s: float, t_f: float, dg: float, unit: int) -> np.ndarray:
+        """The model's angle [arcmin] at each fitted sample of ``unit`` solved at its own torque (no
+        interpolation between nodes): ``predicted`` less this is the model's resolution."""
+        pu, _, offset = self._prepared(k_s, t_f, dg)
+        u, keep = self.loops[unit], self.fit_masks[unit]
+        return np.array([(pu.branch(float(t), KINDS[k]).sum() - offset) * ARCMIN_PER_RAD
+                         for t, k in zip(u.torque_nm[keep], u.branch_index[keep])])
 
     def predicted(self, k_s: float, t_f: float, dg: float, unit: int) -> np.ndarray:
         """The model's angle [arcmin] at each fitted sample of ``unit`` with clearance offset dg."""
@@ -223,6 +266,79 @@ def _solve(fit: _Loops, start: np.ndarray, units: Sequence[int], bounds, max_eva
     scale = np.concatenate([np.maximum(np.abs(start[:2]), [1.0, 0.1]), np.full(m, 0.1), np.ones(m)])
     return least_squares(fit.residuals, x0, args=(units,), bounds=(lo, hi), x_scale=scale, diff_step=1e-3,
                          max_nfev=max_evaluations, method="trf", ftol=tolerance, xtol=tolerance)
+
+
+def _fit_quality(fit: _Loops, x: np.ndarray, residuals: np.ndarray, tr: float):
+    """(expected rms, residual rms over it, segments): what the fit leaves against what the noise
+    (each sample's own, as the bench reader estimates it) and the model's resolution (its loop
+    interpolated between nodes against solved at each sample's torque) explain, in all and per
+    branch and band of |T| / T_R."""
+    parts, start = [], 0
+    for j, u in enumerate(fit.loops):
+        keep = fit.fit_masks[j]
+        n = int(keep.sum())
+        res = fit.predicted(x[0], x[1], x[2 + j], j) - fit.exact(x[0], x[1], x[2 + j], j)
+        sigma = u.sample_sigma_arcmin[keep] if u.sample_sigma_arcmin is not None else np.full(n, u.noise_arcmin)
+        parts.append((residuals[start:start + n], sigma ** 2 + res ** 2, np.abs(u.torque_nm[keep]) / tr,
+                      u.branch_index[keep]))
+        start += n
+    r, var, frac, branch = (np.concatenate([p[i] for p in parts]) for i in range(4))
+    expected = math.sqrt(float(np.mean(var)))
+    ratio = math.sqrt(float(np.mean(r * r))) / expected if expected > 0 else math.inf
+    segments = []
+    for k, name in enumerate(BRANCHES):
+        for lo, hi in zip(SEGMENT_BANDS[:-1], SEGMENT_BANDS[1:]):
+            sel = (branch == k) & (frac >= lo) & ((frac < hi) | (hi == SEGMENT_BANDS[-1]))
+            if not sel.any():
+                continue
+            rms = math.sqrt(float(np.mean(r[sel] ** 2)))
+            exp_here = math.sqrt(float(np.mean(var[sel])))
+            segments.append(MisfitSegment(name, lo, hi, int(sel.sum()), rms, float(np.mean(r[sel])),
+                                          rms / exp_here if exp_here > 0 else math.inf))
+    return expected, ratio, tuple(segments)
+
+
+def _misfit_flag(rms: float, expected: float, ratio: float, segments) -> str:
+    worst = sorted((s for s in segments if s.over_expected > LACK_OF_FIT_RATIO), key=lambda s: -s.over_expected)[:3]
+    where = "; ".join(f"{s.branch} {100 * s.from_fraction:g}-{100 * s.to_fraction:g} % T_R (rms "
+                      f"{s.residual_rms_arcmin:.4f}, mean {s.residual_mean_arcmin:+.4f} arcmin, "
+                      f"{s.over_expected:.1f}x)" for s in worst)
+    return (f"lack of fit: residual {rms:.4f} arcmin rms, {ratio:.1f} times what the noise and the model's "
+            f"resolution explain ({expected:.4f}); the model does not follow these loops and the 95 % intervals, "
+            f"which assume it does, are too narrow; the misfit sits on {where or 'the whole loop'}")
+
+
+def _bound_flags(x: np.ndarray, sd: np.ndarray, bounds, sources) -> tuple[list, list[str]]:
+    """Which of K_s, T_f and the clearance offset (any unit's) the fit left at a bound: within a
+    tenth of its standard error of it (or 1e-9 of the bound)."""
+    m = len(sources)
+    lo = np.concatenate([bounds[0][:2], np.full(m, bounds[0][2])])
+    hi = np.concatenate([bounds[1][:2], np.full(m, bounds[1][2])])
+    v, s = x[:2 + m], sd[:2 + m]
+
+    def near(b):
+        return np.maximum(0.1 * s, 1e-9 * np.maximum(np.abs(b), 1.0))
+
+    side = np.where(v - lo <= near(lo), -1, np.where(hi - v <= near(hi), 1, 0))
+    what = {("structure_stiffness_nm_per_arcmin", -1): "its lower bound {b:g} N m/arcmin",
+            ("structure_stiffness_nm_per_arcmin", 1): "its upper bound {b:g} N m/arcmin (rigid)",
+            ("friction_torque_nm", -1): "its lower bound {b:g} N m (no friction)",
+            ("friction_torque_nm", 1): "its upper bound {b:g} N m",
+            ("crank_clearance_offset_um", -1): "its lower bound {b:g} um (zero clearance)",
+            ("crank_clearance_offset_um", 1): "its upper bound {b:g} um"}
+    at = [None, None, None]
+    flags = []
+    for i in range(2 + m):
+        if side[i] == 0:
+            continue
+        p = PARAMETERS[min(i, 2)]
+        b = lo[i] if side[i] < 0 else hi[i]
+        at[min(i, 2)] = at[min(i, 2)] or ("lower" if side[i] < 0 else "upper")
+        unit = f" for {sources[i - 2]}" if i >= 2 else ""
+        flags.append(f"{p} at {what[p, int(side[i])].format(b=b)}{unit}: the fit stops there, the loop asks for "
+                     f"beyond it; a value at a bound is no estimate and its interval no interval (the model cannot "
+                     f"follow the loop there)")
+    return at, flags
 
 
 def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | None = None, units_flags=None,
@@ -334,20 +450,26 @@ def calibrate(problem: Problem, files: Sequence, *, rated_torque_nm: float | Non
     before = hysteresis(problem)
     after = hysteresis(prepare(calibrated))
     design_values = (e.structure_stiffness_nm_per_arcmin, e.friction_torque_nm, 0.0)
-    params = tuple(FittedParameter(n, dv, float(v), float(a), float(b), f) for n, dv, v, (a, b), f in
-                   zip(PARAMETERS, design_values, values, ci, ci_from))
+    rms = float(math.sqrt(float(sol.fun @ sol.fun) / sol.fun.size))
+    expected, ratio, segments = _fit_quality(fit, sol.x, sol.fun, tr)
+    lack = bool(ratio > LACK_OF_FIT_RATIO)
+    at_bound, flags = _bound_flags(sol.x, sd_all, bounds, sources)
+    if lack:
+        flags.insert(0, _misfit_flag(rms, expected, ratio, segments))
+    params = tuple(FittedParameter(n, dv, float(v), float(a), float(b), f, ab) for n, dv, v, (a, b), f, ab in
+                   zip(PARAMETERS, design_values, values, ci, ci_from, at_bound))
     figs = ("lost_motion_arcmin", "backlash_arcmin", "torsional_rigidity_nm_per_arcmin")
     fitted = int(sum(mask.sum() for mask in fit.fit_masks))
     return CalibrationResult(
-        problem.name, sources, params, tuple(float(nominal_g + g) for g in dgs),
-        float(math.sqrt(float(sol.fun @ sol.fun) / sol.fun.size)),
+        problem.name, sources, params, tuple(float(nominal_g + g) for g in dgs), rms,
         tuple(u.noise_arcmin for u in loops), fitted, fit.evaluations, cond,
         tuple(tuple(float(v) for v in row) for row in corr), tuple(float(v) for v in sol.x[2 + m:]), boot,
         datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat(),
         {k: getattr(before, k) for k in figs}, {k: getattr(after, k) for k in figs},
         {k: float(np.mean([getattr(u, k) for u in loops])) for k in figs}, spread, calibrated, bench,
         before, after, tuple([f"before (the design as given): {w}" for w in before.warnings]
-                             + [f"after (the calibrated design): {w}" for w in after.warnings]))
+                             + [f"after (the calibrated design): {w}" for w in after.warnings]),
+        expected, float(ratio), lack, segments, tuple(flags))
 
 
 def calibrated_design(design: Design, structure_stiffness_nm_per_arcmin: float, friction_torque_nm: float,
@@ -384,4 +506,5 @@ def calibration_header(result: CalibrationResult) -> str:
     lines.append(f"Residual {result.residual_rms_arcmin:.4f} arcmin rms over {result.samples_fitted} samples; "
                  f"everything else as in the design {result.design_name!r}.")
     lines += [f"WARNING, {w}" for w in result.warnings if w.startswith("after")]  # of this design's figures
+    lines += [f"WARNING, {f}" for f in result.flags]  # the fit's own: a misfit, a parameter at a bound
     return "\n".join(lines)

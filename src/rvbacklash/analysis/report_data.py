@@ -33,11 +33,13 @@ class ReportData(Result):
     sweep: object | None = None  # the sweep section (analysis.sweep), when the report shows one
     transmission: object | None = None  # analysis.transmission.TransmissionSection
     capacity: object | None = None  # analysis.capacity.CapacityResult (issue 37)
+    capacity_trade: object | None = None  # analysis.capacity.CapacityTrade: lost motion against life
 
     @property
     def partial(self) -> bool:
         return self.simulation.partial or any(getattr(x, "partial", False) for x in (self.comparison, self.sensitivity,
-                                                                                       self.allocation))
+                                                                                       self.allocation,
+                                                                                       self.capacity_trade))
 
     def key_numbers(self) -> dict:
         """The numbers the page marks, by the JSON path they have in ``to_dict``, the chosen model's
@@ -117,7 +119,8 @@ class ReportData(Result):
                 "analysis": self.stackup.to_dict(), "simulation": self.simulation.to_dict(),
                 "comparison": d(self.comparison), "contact_nominal": d(self.contact),
                 "sensitivity": d(self.sensitivity), "allocation": d(self.allocation), "elastic": d(self.elastic),
-                "sweep": d(self.sweep), "transmission": d(self.transmission), "capacity": d(self.capacity)}
+                "sweep": d(self.sweep), "transmission": d(self.transmission), "capacity": d(self.capacity),
+                "capacity_trade": d(self.capacity_trade)}
 
     def rows(self) -> list[dict]:
         """The key numbers, each row marked ``partial`` when the report was interrupted."""
@@ -183,11 +186,12 @@ def validity_warnings(problem: Problem, stackup: StackupResult, sim: SimulationR
 def build_report_data(problem: Problem, stackup: StackupResult, simulation: SimulationResult,
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
-                      sweep=None, transmission=None, capacity=None) -> ReportData:
+                      sweep=None, transmission=None, capacity=None,
+                      capacity_trade=None) -> ReportData:
     warnings = validity_warnings(problem, stackup, simulation)
     if elastic is not None:  # the elastic section's nominal unit (also beside another model's run)
         warnings += tuple(f"elastic section: {w}" for w in elastic.nominal.warnings
                           if not any(w in x for x in warnings))
     return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact, warnings,
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
-                      elastic, sweep, transmission, capacity)
+                      elastic, sweep, transmission, capacity, capacity_trade)

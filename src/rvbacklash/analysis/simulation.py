@@ -249,7 +249,7 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
              quantiles: tuple[float, ...] = (), workers: int | None = None, chunk_blocks: int = 4,
              model: str | Callable = "linear", progress: Callable[[int], None] | None = None,
              stream: tuple[int, ...] = (), error_model: str | None = None, save_units: int = 0,
-             life: bool = False) -> SimulationResult:
+             life: bool = False, wrap: Callable[[BlockSource], BlockSource] | None = None) -> SimulationResult:
     """Simulate the outputs of a prepared design.
 
     ``model``: a name of ``MODELS`` ("linear": Eq. (2); "contact": geometric cycloid-pin contact
@@ -266,7 +266,9 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
     "independent") overrides the design's ``[contact]`` reading of the per-element errors;
     ``save_units`` keeps the first units with their errors (``result.units``). ``life`` (elastic
     model; implied by a spec on a life output): each unit's life, weakest bearing's life, derived
-    rated torque and largest pin stress beside its precision figures (docs/capacity.md).
+    rated torque and largest pin stress beside its precision figures (docs/capacity.md). ``wrap``:
+    a function of the model's block source returning the one to run (selective assembly,
+    analysis.selection).
     """
     from rvbacklash.sampling.engine import BLOCK_SIZE
 
@@ -299,6 +301,8 @@ def simulate(problem: Problem, *, samples: int = DEFAULT_SAMPLES, seed: int = 0,
         factory = _elastic_life if wants_life else MODELS[model]
         source = factory(problem, method, int(seed), tuple(int(x) for x in stream), save_units=int(save_units))
         model_name = model
+        if wrap is not None:
+            source = wrap(source)
     else:
         source = linear_source(method, int(seed), build_input_transform(problem), model, None, tuple(stream))
         model_name = getattr(model, "__name__", "custom")

@@ -36,7 +36,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 from rvbacklash._version import SCHEMA_VERSION
 from rvbacklash.analysis.executor import Executor, check_scheduler, check_workers, cores, dask_available, executor
-from rvbacklash.analysis.simulation import MODELS, check_run_parameters, simulate
+from rvbacklash.analysis.simulation import LIFE_OUTPUTS, MODELS, _elastic_life, check_run_parameters, simulate
 from rvbacklash.atomic import atomic_write
 from rvbacklash.design.schema import Design
 from rvbacklash.design.sweep_spec import (Scalar, SweepSource, SweepSpec, load_sweep_source, point_designs,
@@ -94,12 +94,20 @@ class SweepPlan:
         return len(self.points)
 
 
+def wants_life(spec: SweepSpec) -> bool:
+    """Whether a sweep's points carry the elastic model's life outputs (``life``, or a spec on one)."""
+    return bool(spec.life or any(k in LIFE_OUTPUTS for k in spec.specs))
+
+
 def _fingerprint(spec: SweepSpec, base_data: dict) -> str:
     """sha256 of what decides the rows: the sweep without its name and description, the base
     design's data (not its path or comments) and the package version."""
     from rvbacklash._version import __version__
 
-    doc = {"sweep": spec.model_dump(mode="json", exclude={"name", "description"}), "design": base_data,
+    # life false is left out: the fingerprints of sweeps written before the field existed stay theirs
+    left_out = {"name", "description"} | ({"life"} if not spec.life else set())
+    doc = {"sweep": spec.model_dump(mode="json", exclude=left_out),
+           "design": base_data,
            "version": __version__}
     return hashlib.sha256(json.dumps(doc, sort_keys=True, default=str).encode("utf-8")).hexdigest()
 
@@ -117,7 +125,12 @@ def plan_sweep(sweep: str | Path | SweepSpec) -> SweepPlan:
     points = sweep_points(spec)
     designs = point_designs(src.base_data, spec, points)
     problems = [prepare(d) for d in designs]  # zones from grades etc.: every point must prepare
-    source = MODELS[spec.model](problems[0], spec.method, spec.seed, (0,))
+    life = wants_life(spec)
+    if life and spec.model != "elastic":
+        name = "life" if spec.life else "specs." + next(k for k in spec.specs if k in LIFE_OUTPUTS)
+        raise InputError(name, spec.life if spec.life else spec.specs[name.removeprefix("specs.")],
+                         "allowed with model 'elastic' only (the life outputs come from its load solution)")
+    source = (_elastic_life if life else MODELS[spec.model])(problems[0], spec.method, spec.seed, (0,))
     outputs = tuple(OutputInfo(o.name, o.unit, o.upper_limit) for o in source.outputs)
     names = [o.name for o in outputs]
     for name, value in spec.specs.items():
@@ -152,6 +165,7 @@ class PointTask:
     specs: dict[str, float]
     quantiles: tuple[float, ...]
     threads: int | None  # threads of the point's own simulation (None: all cores)
+    life: bool = False  # the elastic model's life outputs (SweepSpec.life)
 
 
 @dataclass(frozen=True)
@@ -202,7 +216,7 @@ def evaluate_point(task: PointTask) -> PointOutcome:
     t0 = time.perf_counter()
     result = simulate(prepare(task.design), samples=task.samples, seed=task.seed, method=task.method,
                       spec_arcmin=task.spec_arcmin, specs=task.specs or None, quantiles=task.quantiles,
-                      workers=task.threads, model=task.model, stream=(task.index,))
+                      workers=task.threads, model=task.model, stream=(task.index,), life=task.life)
     row = {"point": task.index, **dict(zip(task.paths, task.values)), **result_figures(result)}
     return PointOutcome(row, result.partial, time.perf_counter() - t0)
 
@@ -210,7 +224,7 @@ def evaluate_point(task: PointTask) -> PointOutcome:
 def point_tasks(plan: SweepPlan, indices: Iterable[int], threads: int | None) -> list[PointTask]:
     s = plan.spec
     return [PointTask(i, plan.points[i], plan.parameters, plan.designs[i], s.model, s.method, s.samples, s.seed,
-                      s.spec_arcmin, dict(s.specs), tuple(s.quantiles), threads) for i in indices]
+                      s.spec_arcmin, dict(s.specs), tuple(s.quantiles), threads, wants_life(s)) for i in indices]
 
 
 # --- files -------------------------------------------------------------------------------------

@@ -76,6 +76,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
     gives the loopback names when it listens on loopback, against DNS rebinding); ``warm``: load
     the models' kernels in the background at start-up."""
     designs, results, jobs = DesignCache(), Results(), Jobs()
+    capacity_cache: dict[str, dict] = {}  # the capacity card's datasheets by design text (its pool's one thread)
 
     def error(e: Exception, status: int = 422, **extra) -> JSONResponse:
         return JSONResponse({"error": str(e), **extra}, status_code=status)
@@ -157,6 +158,36 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return rendered(await run(body, lambda job: api.hysteresis(design_of(body).problem, points=points),
                                   pool="figures"))
 
+    @endpoint({"angles"})
+    async def capacity(body: dict) -> Response:
+        """The capacity card (docs/workbench.md): the edited design's capacity datasheet (``rvbacklash
+        capacity --json``) and its point of lost motion against life (``capacity_trade``, the design
+        alone), cached by the design's text: a what-if seen before answers at once."""
+        angles = whole(body, "angles", 24, 1, 64, " in the workbench (the command line: --angles up to 4096)")
+
+        def compute(job: Job) -> str:
+            item = design_of(body)
+            key = json.dumps(["capacity", item.text, angles])
+            cached = results.get(key)
+            if cached is not None:
+                return cached
+            # each half kept as it finishes: a superseded request's datasheet (which no stop interrupts)
+            # serves the request that superseded it
+            rating = capacity_cache.get(key)
+            if rating is None:
+                rating = api.capacity(item.problem, angles=angles).to_dict()
+                rating.pop("loads", None)  # the loads over a revolution: the command line's --json has them
+                capacity_cache[key] = rating
+                while len(capacity_cache) > 16:
+                    capacity_cache.pop(next(iter(capacity_cache)))
+            job.check()
+            trade = api.capacity_trade(item.problem, what_ifs=(), angles=angles)
+            text = render_json({"capacity": rating, "trade": trade.to_dict()})
+            results.put(key, text)
+            return text
+
+        return Response(await run(body, compute, pool="capacity"), media_type="application/json")
+
     @endpoint({"samples", "seed"})
     async def elastic_section(body: dict) -> Response:
         n = samples(body, "elastic-section", "elastic", 2000, 20)
@@ -185,7 +216,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return rendered(await run(body, compute, pool="demand"))
 
     @endpoint({"model", "spec_arcmin", "yield", "spec_rigidity_nm_per_arcmin", "spec_preload_um", "spec_te_arcsec",
-               "samples", "seed"}, name="allocate")
+               "spec_life_h", "spec_rated_torque_nm", "samples", "seed"}, name="allocate")
     async def allocate(body: dict) -> Response:
         model = choice(body, "model", "linear", MODELS)
         spec = number_or_none(body, "spec_arcmin")
@@ -196,6 +227,8 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         kwargs = {"spec_rigidity_nm_per_arcmin": number_or_none(body, "spec_rigidity_nm_per_arcmin"),
                   "spec_preload_um": number_or_none(body, "spec_preload_um"),
                   "spec_te_arcsec": number_or_none(body, "spec_te_arcsec"),
+                  "spec_life_h": number_or_none(body, "spec_life_h"),
+                  "spec_rated_torque_nm": number_or_none(body, "spec_rated_torque_nm"),
                   "seed": whole(body, "seed", 0, 0, 2**63 - 1)}
         if model != "linear":  # the linear model's allocation is exact: no samples
             kwargs["samples"] = samples(body, "allocate", model, api.ALLOCATION_SAMPLES, 1000)
@@ -254,6 +287,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return FileResponse(plotly_js(), media_type="text/javascript")
 
     posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
+             "capacity": capacity,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),

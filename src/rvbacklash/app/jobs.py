@@ -77,6 +77,8 @@ class Jobs:
         self._pools = {"live": ThreadPoolExecutor(1, thread_name_prefix="rvb-live"),
                        "design": ThreadPoolExecutor(1, thread_name_prefix="rvb-design"),
                        "figures": ThreadPoolExecutor(1, thread_name_prefix="rvb-figures"),
+                       # the capacity card: root searches of seconds, apart from the loops and TE curves
+                       "capacity": ThreadPoolExecutor(1, thread_name_prefix="rvb-capacity"),
                        "demand": ThreadPoolExecutor(1, thread_name_prefix="rvb-demand")}
         self._lock = threading.Lock()
         self._latest: dict[str, Job] = {}

@@ -76,6 +76,10 @@ def allocate(
                                                    help="Also require the transmission error's peak-to-peak over one "
                                                         "output revolution <= X [arcsec]; turns --model contact into "
                                                         "--model transmission (docs/transmission-error.md)."),
+    spec_life_h: Optional[float] = typer.Option(None, "--spec-life-h", help="Also require the reducer's L10 at the "
+                                                "rated torque and speed >= L [h] (--model elastic; docs/capacity.md)."),
+    spec_rated_torque_nm: Optional[float] = typer.Option(None, "--spec-rated-torque-nm", help="Also require the "
+                                                         "derived rated torque >= T [N m] (--model elastic)."),
     write_design: Optional[str] = typer.Option(None, "--write-design", metavar="FILE",
                                                 help="Write the chosen design (its grades set) as a TOML design "
                                                      "file that simulate re-runs."),
@@ -107,7 +111,9 @@ def allocate(
     with progress_bar(None if model == "linear" else 200, what="candidates") as progress:
         result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                               spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload,
-                              spec_te_arcsec=spec_te_arcsec, samples=n, seed=seed, scheduler=scheduler, workers=threads, progress=progress)
+                              spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
+                              spec_rated_torque_nm=spec_rated_torque_nm, samples=n, seed=seed, scheduler=scheduler,
+                              workers=threads, progress=progress)
     # every row of the Pareto front says whether the search was interrupted, as every other CSV
     data, rows = result.to_dict(), [{**r, "partial": result.partial} for r in result.front_rows()]
     header = (f"Written by rvbacklash allocate ({problem.source}): {result.binding.constraint}, {result.model} model.\n"
@@ -121,7 +127,9 @@ def allocate(
                  f"-n {result.samples} --seed {result.seed}"
                  + (f" --spec-rigidity-nm-per-arcmin {spec_rigidity:g}" if spec_rigidity is not None else "")
                  + (f" --spec-preload-um {spec_preload:g}" if spec_preload is not None else "")
-                 + (f" --spec-te-arcsec {spec_te_arcsec:g}" if spec_te_arcsec is not None else "")))
+                 + (f" --spec-te-arcsec {spec_te_arcsec:g}" if spec_te_arcsec is not None else "")
+                 + (f" --spec-life-h {spec_life_h:g}" if spec_life_h is not None else "")
+                 + (f" --spec-rated-torque-nm {spec_rated_torque_nm:g}" if spec_rated_torque_nm is not None else "")))
     out.finish({"--write-design": lambda: design_toml(result.design, header), "--json": lambda: render_json(data),
                 "--csv": lambda: render_csv(rows), "--plot": lambda: front_svg(result)},
                lambda: print_allocation(result, stdout_console()), data, rows)

@@ -191,11 +191,14 @@ def print_calibration(result, console) -> None:
     from rich.table import Table
 
     t = Table(title=f"{escape(result.design_name)} calibrated on {len(result.sources)} loop(s)", title_justify="left")
-    for col in ("parameter", "design", "fitted", "95 % interval", "from"):
-        t.add_column(col, justify="left" if col in ("parameter", "from") else "right")
+    cols = ("parameter", "design", "fitted", "95 % interval", "from", "flag")
+    for col in cols:
+        t.add_column(col, justify="left" if col in ("parameter", "from", "flag") else "right")
     for p in result.parameters:
+        flag = [f"AT {p.at_bound.upper()} BOUND: no estimate"] if p.at_bound else []
+        flag += ["LACK OF FIT: interval too narrow"] if result.lack_of_fit else []
         t.add_row(p.name, "derived" if p.design_value is None else f"{p.design_value:.4g}", f"{p.value:.4g}",
-                  f"{p.ci95_low:.4g} .. {p.ci95_high:.4g}", p.ci_from)
+                  f"{p.ci95_low:.4g} .. {p.ci95_high:.4g}", p.ci_from, "; ".join(flag))
     console.print(t)
     f = Table(title="Nominal unit before and after, and the measured units' mean", title_justify="left")
     for col in ("figure", "before", "after", "measured"):
@@ -209,7 +212,18 @@ def print_calibration(result, console) -> None:
     for k, s in result.spread.items():
         pred = "" if s["predicted_sigma"] is None else f"; predicted {s['predicted_sigma']:.4g}"
         console.print(f"unit-to-unit spread of {k}: sigma {s['measured_sigma']:.4g} over {s['units']} units{pred}")
-    for w in result.warnings:
+    console.print(f"residual {result.residual_over_expected:.2f} times what the noise and the model's resolution "
+                  f"explain ({result.expected_residual_arcmin:.4f} arcmin)")
+    if result.lack_of_fit:
+        m = Table(title="Where the misfit sits (residual = measured - model)", title_justify="left")
+        for col in ("branch", "|T| / T_R", "samples", "rms [arcmin]", "mean [arcmin]", "x expected"):
+            m.add_column(col, justify="left" if col == "branch" else "right")
+        for s in result.misfit:
+            m.add_row(s.branch, f"{100 * s.from_fraction:g}-{100 * s.to_fraction:g} %", str(s.samples),
+                      f"{s.residual_rms_arcmin:.4f}", f"{s.residual_mean_arcmin:+.4f}",
+                      f"[bold red]{s.over_expected:.1f}[/]" if s.over_expected > 1.25 else f"{s.over_expected:.1f}")
+        console.print(m)
+    for w in (*result.flags, *result.warnings):
         console.print(f"[bold red]warning:[/] {escape(w)}")
 
 

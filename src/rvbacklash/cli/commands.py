@@ -74,6 +74,10 @@ def simulate(
     life: bool = typer.Option(False, "--life", help="Each unit's life, weakest bearing's life, derived rated torque and "
                                                     "largest pin stress beside its precision figures (--model elastic; "
                                                     "implied by a life spec)."),
+    select: Optional[str] = typer.Option(
+        None, "--select", help="Selective assembly beside random assembly (--model elastic): pins and needle "
+                               "rollers from diameter classes per unit, e.g. pins=5x2um,rollers=3x2um[,noise=0.5um]"
+                               "[,play=[MIN:]MAX][,target=ARCMIN] (docs/selective-assembly.md)."),
     json_out: Optional[str] = json_option(),
     csv_out: Optional[str] = csv_option("the statistics"),
     fmt: Format = FORMAT_OPTION,
@@ -96,6 +100,10 @@ def simulate(
     if save_units is not None and n_save < 1:
         raise InputError("--save-units", n_save, "allowed: N >= 1 units to write to FILE")
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, save_units=save_path)
+    if select is not None:
+        _simulate_selected(design, select, out, n, seed, spec_arcmin, quantile, threads, model, error_model, n_save,
+                           specs, life)
+        return
     problem = api.prepare(design)
     with progress_bar(n, note=CONTACT_NOTE if model != "linear" else None) as progress:
         result = api.simulate(problem, samples=n if n is not None else 1, seed=seed, method=method,
@@ -116,6 +124,50 @@ def simulate(
     if result.partial:
         raise typer.Exit(130)
 
+
+def _simulate_selected(design, select, out, n, seed, spec_arcmin, quantile, threads, model, error_model, n_save,
+                       specs, life) -> None:
+    """``simulate --select``: the run with random and with selective assembly (same units)."""
+    import rvbacklash.api as api
+    from rvbacklash.analysis.selection.classes import parse_selection
+    from rvbacklash.report import tables
+    from rvbacklash.report.files import render_csv, render_json
+    from rvbacklash.report.selection import print_selection
+
+    selection = parse_selection(select, "--select")
+    if n is None:
+        raise InputError("--method", "exact", "allowed with --select: a sampled method (default)")
+    if life:
+        raise InputError("--life", True, "not allowed with --select (the precision outputs are selected against)")
+    if model != "elastic":
+        raise InputError("--select", select, "allowed with --model elastic (the contact and transmission models: "
+                                              "not yet)")
+    if not specs and spec_arcmin is None:
+        raise InputError("--select", select, "needs a spec to compare the yields, e.g. --spec-lost-motion-arcmin 1")
+    problem = api.prepare(design)
+    with progress_bar(2 * n, note=CONTACT_NOTE) as progress:
+        result = api.simulate_selected(problem, select=selection, samples=n, seed=seed, spec_arcmin=spec_arcmin,
+                                       specs=specs, quantiles=quantile, workers=threads, model=model,
+                                       progress=progress, error_model=error_model, save_units=n_save)
+    data, rows = result.to_dict(), result.rows()
+
+    def units_toml() -> str:
+        from rvbacklash.design.measured import units_to_toml
+
+        return units_to_toml(api.measured_units(problem, result.selected),
+                             f"{len(result.selected.units)} selected units of `rvbacklash simulate {design} --model "
+                             f"{model} --seed {seed} --select {selection}`\n(design {problem.name}); re-run one: "
+                             f"rvbacklash {RERUN_SAVED_UNIT[model]} {design} --measured FILE --unit K")
+
+    def show() -> None:
+        console = stdout_console()
+        tables.print_simulation(result.selected, console)
+        print_selection(result, console)
+
+    out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows), "--save-units": units_toml},
+               show, data, rows)
+    if result.partial:
+        raise typer.Exit(130)
 
 
 def parse_scenario(text: str):
@@ -419,7 +471,10 @@ class SchemaOutput(str, Enum):
     sweep = "sweep"
     transmission_error = "transmission-error"
     contact = "contact"
+    assemble = "assemble"
     capacity = "capacity"
+    efficiency = "efficiency"
+    service_life = "service-life"
     bench = "bench"
     calibrate = "calibrate"
 
@@ -428,7 +483,7 @@ class SchemaOutput(str, Enum):
 @command
 def schema(output: Optional[SchemaOutput] = typer.Option(
         None, "--output", help="Print instead the JSON Schema of this command's JSON output (simulate, analyze, "
-                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate, capacity); its "
+                               "hysteresis, allocate, sensitivity, sweep, transmission-error, contact, bench, calibrate, capacity, efficiency); its "
                                "schema_version is in CHANGELOG.md.")
            ) -> None:
     """Print the JSON schema of the design file, or of a command's JSON output (--output)."""

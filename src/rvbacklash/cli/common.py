@@ -35,6 +35,9 @@ FLAGS = {
     "columns": "--columns", "format_profile": "--format-profile", "decimal": "--decimal",
     "duty_cycle": "--duty-cycle", "angles": "--angles", "life_method": "--life-method",
     "spec_life_h": "--spec-life-h", "spec_rated_torque_nm": "--spec-rated-torque-nm",
+    "temperature_c": "--temperature", "output_speed_rpm": "--output-speed", "units": "--units",
+    "spec_min_efficiency": "--spec-min-efficiency",
+    "hours": "--hours", "step_fraction": "--step-fraction",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 

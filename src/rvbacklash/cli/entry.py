@@ -16,10 +16,13 @@ import rvbacklash.cli.commands  # noqa: F401  (registers the commands on the app
 import rvbacklash.cli.allocation  # noqa: F401  (sensitivity, allocate)
 import rvbacklash.cli.hysteresis  # noqa: F401  (hysteresis)
 import rvbacklash.cli.capacity  # noqa: F401  (capacity)
+import rvbacklash.cli.efficiency  # noqa: F401  (efficiency)
+import rvbacklash.cli.service_life  # noqa: F401  (service-life)
 import rvbacklash.cli.bench  # noqa: F401  (bench, calibrate)
 import rvbacklash.cli.sweep  # noqa: F401  (sweep, sweep-plot)
 import rvbacklash.cli.transmission  # noqa: F401  (transmission-error)
 import rvbacklash.cli.workbench  # noqa: F401  (app: the workbench in the browser)
+import rvbacklash.cli.selection  # noqa: F401  (assemble)
 from rvbacklash.cli.app import app
 from rvbacklash.interrupt import EXIT_CODE, stop_was_requested
 

@@ -13,6 +13,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rvbacklash.design.capacity import CapacityInputs
+from rvbacklash.design.lubrication import LubricationInputs, ThermalInputs
+from rvbacklash.design.wear import WearInputs
 from rvbacklash.design.costs import Costs
 from rvbacklash.design.elastic import ElasticInputs
 from rvbacklash.design.structure import StructureInputs, check_structure
@@ -298,6 +300,9 @@ class Design(_Strict):
     elastic: ElasticInputs | None = None  # test-bench hysteresis model (design/elastic.py, docs/elastic.md)
     structure: StructureInputs | None = None  # the whole torque path (design/structure.py); None: rigid
     capacity: CapacityInputs = CapacityInputs()  # rated life and speed, static limits (design/capacity.py)
+    lubrication: LubricationInputs = LubricationInputs()  # the losses' friction and lubricant (design/lubrication.py)
+    thermal: ThermalInputs = ThermalInputs()  # heat balance and thermal expansion (design/lubrication.py)
+    wear: WearInputs = WearInputs()  # wear coefficients, running-in (design/wear.py, docs/service-life.md)
 
     @model_validator(mode="after")
     def _every_factor_has_a_zone(self) -> "Design":

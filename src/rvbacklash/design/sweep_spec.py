@@ -272,6 +272,9 @@ class SweepSpec(_Strict):
     spec_arcmin: float | None = Field(None, gt=0, description="upper limit of the model's primary output [arcmin]")
     specs: dict[str, float] = Field(default_factory=dict,
                                     description="limits of outputs by name (e.g. backlash = 1.0, preload = 10.0)")
+    life: bool = Field(False, description="elastic model: each point's life outputs as columns (life, "
+                                          "weakest_bearing_life, rated_torque, max_pin_stress; docs/capacity.md); "
+                                          "implied by a spec on one of them (specs.life = 6000.0)")
     quantiles: list[float] = Field(default_factory=list, max_length=20,
                                    description="extra quantiles per point, besides 0.00135, 0.5, 0.99865")
     sampling: Literal["grid", "latin-hypercube", "sobol"] = Field(

@@ -58,3 +58,50 @@ def loads_figure(result):
 def loads_svg(result) -> str:
     """SVG of ``loads_figure``."""
     return _svg(loads_figure(result))
+
+
+FAMILY_COLORS = {"clearance": BLUE, "modification": GREEN, "edit": GREY}
+FAMILY_LABELS = {"clearance": "crank-bearing clearance / preload", "modification": "equidistance modification",
+                 "edit": "other what-ifs"}
+
+
+def trade_figure(trade):
+    """Lost motion against life (a CapacityTrade): each point's nominal lost motion [arcmin] against
+    its reducer L10 [h] at the stated rated torque; a family's what-ifs (the clearance's, the
+    modification's) joined through the design's own point, in the order of their value; the design
+    as given in red; the rated life dotted."""
+    design = trade.points[0]
+    fig, ax = plt.subplots(figsize=(8.0, 4.4))
+    for family, color in FAMILY_COLORS.items():
+        pts = [p for p in trade.points[1:] if p.family == family]
+        if not pts:
+            continue
+        if family in ("clearance", "modification"):  # a curve through the design's own value
+            key = (lambda p: p.crank_clearance_um) if family == "clearance" else \
+                (lambda p: p.equidistance_modification_um)
+            line = sorted(pts + [design], key=key)
+            ax.plot([p.lost_motion_arcmin for p in line], [p.reducer_life_h for p in line], color=color, lw=1.0,
+                    alpha=0.6)
+        ax.scatter([p.lost_motion_arcmin for p in pts], [p.reducer_life_h for p in pts], color=color, s=28, zorder=3,
+                   label=FAMILY_LABELS[family])
+        for p in pts:
+            value = p.crank_clearance_um if family == "clearance" else (
+                p.equidistance_modification_um if family == "modification" else None)
+            ax.annotate(f"{value:g} µm" if value is not None else p.name, (p.lost_motion_arcmin, p.reducer_life_h),
+                        textcoords="offset points", xytext=(5, 4), fontsize=7, color=color)
+    ax.scatter([design.lost_motion_arcmin], [design.reducer_life_h], color=RED, s=60, marker="D", zorder=4,
+               label=f"the design: {design.lost_motion_arcmin:.3g} arcmin, {design.reducer_life_h:,.0f} h")
+    ax.axhline(trade.rated_life_h, color=GREY, ls=":", lw=1.2)
+    ax.set_xlabel("lost motion of the nominal unit [arcmin]")
+    ax.set_ylabel(f"reducer L10 at {trade.stated_rated_torque_nm:g} N·m [h]")
+    ax.set_title(f"{trade.design_name}: lost motion against life ({trade.life_method}, "
+                 f"{trade.rated_output_speed_rpm:g} r/min; rated life {trade.rated_life_h:g} h dotted)", fontsize=9.5)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7.5, loc="best")
+    fig.tight_layout()
+    return fig
+
+
+def trade_svg(trade) -> str:
+    """SVG of ``trade_figure``."""
+    return _svg(trade_figure(trade))

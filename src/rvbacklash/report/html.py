@@ -35,9 +35,11 @@ def render_html(data: ReportData) -> str:
     if data.sweep is not None:
         extra.update(sweep_section_context(data.sweep))
     if data.capacity is not None:
-        from rvbacklash.report.capacity_plots import loads_svg
+        from rvbacklash.report.capacity_plots import loads_svg, trade_svg
 
         extra.update(capacity=data.capacity, capacity_figure=plots.inline_svg(loads_svg(data.capacity)))
+        if data.capacity_trade is not None:
+            extra.update(trade=data.capacity_trade, trade_figure=plots.inline_svg(trade_svg(data.capacity_trade)))
     head = {"title": headline.title(data), "lead": headline.lead(data), "cards": headline.cards(data),
             "model_name": headline.model_name(data.model)}
     return env.get_template("report.html.j2").render(

@@ -26,9 +26,13 @@ from rvbacklash.analysis.allocation import AllocationResult
 from rvbacklash.analysis.bench import BenchResult
 from rvbacklash.analysis.calibration import CalibrationResult
 from rvbacklash.analysis.capacity import CapacityResult
+from rvbacklash.analysis.losses import EfficiencyResult
+from rvbacklash.analysis.service_life.results import ServiceLifeResult
 from rvbacklash.analysis.contact import NominalContact
 from rvbacklash.analysis.hysteresis import HysteresisResult
 from rvbacklash.analysis.sensitivity_global import SensitivityResult
+from rvbacklash.analysis.selection.assembly import AssemblySheet
+from rvbacklash.analysis.selection.run import SelectionResult
 from rvbacklash.analysis.simulation import SimulationResult
 from rvbacklash.analysis.stackup import FactorResult, StageResult, TotalResult
 from rvbacklash.analysis.sweep import SweepResult
@@ -122,9 +126,10 @@ def _contact(g: _Generator) -> dict:
 
 # command -> (the schema of its result, what the JSON is)
 OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
-    "simulate": (_result(SimulationResult),
+    "simulate": (lambda g: {"anyOf": [g.dataclass_schema(SimulationResult), g.dataclass_schema(SelectionResult)]},
                  "rvbacklash simulate --json: a Monte-Carlo run (or the exact distribution); figures under "
-                 "outputs.<quantity>"),
+                 "outputs.<quantity>; with --select, the run with random and with selective assembly side by side "
+                 "(random_run, selected_run, yields, classes; issue 39)"),
     "analyze": (_stackup, "rvbacklash analyze --json: the linear stack-up"),
     "hysteresis": (_result(HysteresisResult),
                    "rvbacklash hysteresis --json: the test bench's hysteresis loop of one unit"),
@@ -146,6 +151,16 @@ OUTPUTS: dict[str, tuple[Callable[[_Generator], dict], str]] = {
                  "rvbacklash capacity --json: the nominal unit's capacity and life: each bearing's load, rating and "
                  "L10, the reducer's life, the derived rated torque, momentary maximum and acceleration torques, the "
                  "main bearings, the loads over a revolution (issue 37)"),
+    "efficiency": (_result(EfficiencyResult),
+                   "rvbacklash efficiency --json: the nominal unit's losses per element at the rated point, the "
+                   "efficiency map, no-load running, starting and back-driving torques, a duty cycle's thermal "
+                   "balance with lost motion and backlash at its temperature (issue 40)"),
+    "assemble": (_result(AssemblySheet),
+                 "rvbacklash assemble --json: the assembly sheet of a measured batch, one row per unit (issue 39)"),
+    "service-life": (_result(ServiceLifeResult),
+                     "rvbacklash service-life --json: the nominal unit's lost motion, backlash and rigidity over the "
+                     "hours of a duty cycle, its contacts' wear rates and worn flank, the production run's yield and "
+                     "accuracy life (issue 38)"),
     "contact": (_contact, "rvbacklash contact --json: the play of one unit (or of every measured unit) from the "
                           "exact cycloid-pin geometry"),
 }

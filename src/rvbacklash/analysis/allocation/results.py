@@ -109,6 +109,8 @@ class AllocationResult(Result):
     elapsed_s: float
     partial: bool
     notes: tuple[str, ...]
+    spec_life_h: float | None = None  # lower limit of the reducer's L10 at the rated torque and speed (elastic)
+    spec_rated_torque_nm: float | None = None  # lower limit of the derived rated torque (elastic)
     design: Design | None = field(default=None, metadata={EXPORT: False})
     _frame_index = "group"
 

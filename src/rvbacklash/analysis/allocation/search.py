@@ -164,20 +164,23 @@ def search_monte_carlo(ch: GradeChoices, start: tuple[int, ...], runs: _Runs, ta
 
 def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yield_target: float,
                          spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
-                         spec_te_arcsec: float | None = None, samples: int = DEFAULT_MC_SAMPLES,
+                         spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
+                         spec_rated_torque_nm: float | None = None, samples: int = DEFAULT_MC_SAMPLES,
                          seed: int = 0, executor=None, workers: int | None = None, max_evaluations: int = 200,
                          progress: Callable[[int], None] | None = None) -> AllocationResult:
     """Allocation under a Monte-Carlo model (module docstring): common random numbers for every
     candidate, local search from the linear optimum, verification on an independent stream."""
     started = time.perf_counter()
-    check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec)
+    check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec, spec_life_h,
+                  spec_rated_torque_nm)
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 1000 <= samples <= 10**7:
         raise InputError("samples", samples, "allowed: a whole number of samples per candidate, 1000 to 1e7 "
                                              "(a search evaluates up to 200 candidates)")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("seed", seed, "allowed: an integer >= 0")
     ch = grade_choices(problem)
-    specs = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec) or None
+    specs = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec, spec_life_h,
+                        spec_rated_torque_nm) or None
     notes = list(ch.notes)
     if model == "elastic" and problem.design.elastic is not None:  # friction and x T_R: the same for every grade
         from rvbacklash.models.elastic import elastic_model
@@ -280,4 +283,4 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         saving_fraction=saving / base.cost if saving is not None and base.cost else None,
         front=pareto_front(points), uniform=uni_points, samples=int(samples), seed=int(seed), evaluations=runs.runs,
         verification=verification, elapsed_s=time.perf_counter() - started, partial=partial, notes=tuple(notes),
-        design=design)
+        spec_life_h=spec_life_h, spec_rated_torque_nm=spec_rated_torque_nm, design=design)

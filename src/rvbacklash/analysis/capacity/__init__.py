@@ -10,7 +10,10 @@ The wear (issue 38) and losses (issue 40) work read the loads through ``revoluti
 from rvbacklash.analysis.capacity.rating import CapacityResult, capacity_rating
 from rvbacklash.analysis.capacity.revolution import (DEFAULT_ANGLES, CrankAngles, RevolutionLoads, load_geometry,
                                                      needle_rollers, revolution_loads)
+from rvbacklash.analysis.capacity.trade import (CapacityTrade, TradePoint, WhatIf, capacity_trade,
+                                                clearance_what_if, default_what_ifs, modification_what_if)
 from rvbacklash.analysis.capacity.unit import UnitCapacity
 
 __all__ = ["CapacityResult", "capacity_rating", "DEFAULT_ANGLES", "CrankAngles", "RevolutionLoads", "load_geometry",
-           "needle_rollers", "revolution_loads", "UnitCapacity"]
+           "needle_rollers", "revolution_loads", "UnitCapacity", "CapacityTrade", "TradePoint", "WhatIf",
+           "capacity_trade", "clearance_what_if", "default_what_ifs", "modification_what_if"]

@@ -22,6 +22,7 @@ const state = {
   // each model's own specs (a TE spec would turn the contact model into the transmission model)
   specs: { linear: { arcmin: 3 }, contact: { arcmin: 3 }, elastic: { lost_motion_arcmin: 1.5, rigidity_nm_per_arcmin: 200 },
            transmission: { arcmin: 3, te_arcsec: 60 } },
+  trade: [],  // the points of lost motion against life seen since the design was loaded
   seq: 0, demandSeq: 0, shown: 0, lastJson: null, demandId: null, demandTimer: null,
 };
 window.workbench = state;  // for scripts and the browser test
@@ -146,7 +147,7 @@ function buildControls(c) {
   const mods = $("#modifications");
   mods.replaceChildren();
   for (const [path, value] of Object.entries(c.modifications)) {
-    const input = el("input", { type: "number", step: "any", value: value });
+    const input = el("input", { type: "number", step: "any", value: value, id: "mod-" + path.split(".")[1] });
     input.addEventListener("change", () => { state.edits[path] = numberOf(input); update(); });
     const name = path.split(".")[1].replace("_modification_um", "").replace("_", " ");
     mods.append(fieldRow(path, name, input));
@@ -299,6 +300,63 @@ function renderLoop(section) {
   $("#loop-shares").replaceChildren(...warnings, t);
 }
 
+// the capacity card: the edited design's datasheet and its point of lost motion against life; every
+// what-if seen since the design was loaded stays on the figure (state.trade), the loaded design's first
+function whatIfLabel(edits) {
+  const keys = Object.keys(edits);
+  if (!keys.length) return "the design as loaded";
+  return keys.map((k) => `${k.split(".").slice(-2).join(".")} = ${edits[k]}`).join(", ");
+}
+
+function renderCapacity(data, edits) {
+  const c = data.capacity, p = data.trade.points[0];
+  const label = whatIfLabel(edits);
+  state.trade = state.trade.filter((q) => q.label !== label);
+  state.trade.push({ label, lost_motion_arcmin: p.lost_motion_arcmin, reducer_life_h: p.reducer_life_h,
+                     derived_rated_torque_nm: p.derived_rated_torque_nm });
+  const dl = el("dl");
+  const item = (text, key, value, shown, note) => {
+    dl.append(el("dt", { text }));
+    const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
+    if (note) dd.append(el("span", { class: "ci", text: " " + note }));
+    dl.append(dd);
+  };
+  const h = (x) => (x === null || x === undefined) ? "–" : Math.round(x).toLocaleString("en");
+  const m = c.main_bearings;
+  item("derived rated torque [N·m]", "capacity.derived_rated_torque_nm", c.derived_rated_torque_nm,
+       h(c.derived_rated_torque_nm), `(L10 = ${c.rated_life_h} h at ${c.rated_output_speed_rpm} r/min; stated ${c.stated_rated_torque_nm})`);
+  item(`reducer L10 at ${c.stated_rated_torque_nm} N·m [h]`, "capacity.reducer_life_h", c.reducer_life_h, h(c.reducer_life_h),
+       `(weakest: ${c.weakest_bearing}, ${h(c.weakest_bearing_life_h)} h)`);
+  item("momentary maximum torque [N·m]", "capacity.momentary_maximum_torque_nm", c.momentary_maximum_torque_nm,
+       h(c.momentary_maximum_torque_nm), `(limited by the ${c.limiting_element})`);
+  item("moment rigidity [N·m/arcmin]", "capacity.moment_rigidity_nm_per_arcmin", m ? m.moment_rigidity_nm_per_arcmin : null,
+       m ? h(m.moment_rigidity_nm_per_arcmin) : "–", m ? "(main bearings)" : "(no main bearings in [structure])");
+  item("allowable moment [N·m]", "capacity.allowable_moment_nm", m ? m.allowable_moment_nm : null,
+       m ? h(m.allowable_moment_nm) : "–");
+  item("lost motion [arcmin]", "trade.lost_motion_arcmin", p.lost_motion_arcmin, fmt(p.lost_motion_arcmin, 3),
+       `↔ L10 ${h(p.reducer_life_h)} h (this what-if)`);
+  $("#capacity-card").replaceChildren(
+    el("h3", { text: `${c.design_name}: ${label}`, title: "rvbacklash capacity (docs/capacity.md), the edited design" }),
+    el("div", {}, el("span", { class: "big", "data-key": "capacity.limiting_element", "data-value": c.limiting_element,
+                               text: `${h(c.momentary_maximum_torque_nm)} N·m` }),
+       el("span", { class: "ci", text: ` momentary maximum: ${c.limiting_element}` })), dl,
+    el("div", { class: "note", text: `${c.life_method}, ${c.crank_angles} crank angles; the command line: rvbacklash capacity` }));
+  const current = state.trade[state.trade.length - 1];
+  const others = state.trade.slice(0, -1);
+  Plotly.react($("#fig-trade"), [
+    { type: "scatter", mode: "markers+text", name: "what-ifs seen", x: others.map((q) => q.lost_motion_arcmin),
+      y: others.map((q) => q.reducer_life_h), text: others.map((q) => q.label), textposition: "top center",
+      textfont: { size: 9 }, marker: { color: "#4c78a8", size: 8 } },
+    { type: "scatter", mode: "markers", name: `now: ${current.label}`, x: [current.lost_motion_arcmin],
+      y: [current.reducer_life_h], marker: { color: "#c92a2a", size: 12, symbol: "diamond" } }],
+    { title: { text: "lost motion against life (nominal unit)", font: { size: 12 } }, height: 320,
+      margin: { l: 65, r: 10, t: 36, b: 45 }, showlegend: true, legend: { orientation: "h", y: -0.25, font: { size: 10 } },
+      xaxis: { title: { text: "lost motion [arcmin]" } }, yaxis: { title: { text: `reducer L10 at ${c.stated_rated_torque_nm} N·m [h]` } },
+      shapes: [{ type: "line", xref: "paper", x0: 0, x1: 1, y0: c.rated_life_h, y1: c.rated_life_h,
+                 line: { color: "#868e96", dash: "dot", width: 1 } }] },
+    { displayModeBar: false, responsive: true });
+}
+
 function renderTe(t) {
   Plotly.react($("#fig-te"), [
     { type: "scatter", mode: "lines", name: "TE ccw [arcsec]", x: t.output_angle_deg, y: t.te_ccw_arcsec },
@@ -366,6 +424,17 @@ async function secondary(id) {
     render(await r.json());
   };
   if (m === "elastic") figure("/api/elastic-section", { samples: 2000, seed: numberOf($("#seed")) }, "#loop-error", renderLoop);
+  // the capacity card: designs with [elastic] and [structure] (else its one line in the card's place)
+  $("#capacity-section").hidden = m !== "elastic";
+  if (m === "elastic") {
+    const edits = { ...state.edits };
+    $("#capacity-status").textContent = "computing…";
+    figure("/api/capacity", {}, "#capacity-error", (data) => {
+      $("#capacity-status").textContent = "";
+      renderCapacity(data, edits);
+      document.body.dataset.capacityShown = String(id);
+    }).then(() => { if (id === state.seq && $("#capacity-error").textContent) $("#capacity-status").textContent = ""; });
+  }
   if (m === "transmission") figure("/api/transmission-error", {}, "#te-error", renderTe);
 }
 
@@ -442,7 +511,7 @@ async function loadDesign(design, origin, edits = {}) {
     $("#design-error").textContent = (await errorOf(r)).error;
     return false;
   }
-  Object.assign(state, { design, origin, edits });
+  Object.assign(state, { design, origin, edits, trade: [] });
   $("#design-error").textContent = "";
   buildControls(await r.json());
   await update();

@@ -549,6 +549,13 @@ def prepare_pins(unit, c, translating, table):
     that a load evaluation stops at each run's first open contact; the pins that no torque up to
     +-T_R closes cost nothing there (a closed-form bound that dropped them, ~15 of 80 pins for rv80e,
     cost more than it saved: issue 28)."""
+    return prepare_pins_indexed(unit, c, translating, table, np.empty(unit.gap_um.size, dtype=np.int64))
+
+
+@njit(nogil=True, cache=True)
+def prepare_pins_indexed(unit, c, translating, table, order_out):
+    """``prepare_pins`` that also writes each contact's pin (flat index d z_p + j) into ``order_out``,
+    so that the life can place each contact's force on its pin (models.elastic.unit_life)."""
     chi = unit.chi_rad
     discs, zp = unit.gap_um.shape
     g = unit.gap_um.ravel()
@@ -567,6 +574,7 @@ def prepare_pins(unit, c, translating, table):
     dk = np.empty(m, dtype=np.int64)
     for i in range(m):
         j = order[i]
+        order_out[i] = j
         gk[i] = g[j]
         lk[i] = lev[j]
         ak[i] = laws[j]

@@ -33,14 +33,12 @@ from typing import NamedTuple
 import numpy as np
 
 from rvbacklash._numba import njit
-from rvbacklash.models import compliance as cm
-from rvbacklash.models.elastic.chain import (N_ELEMENTS, LoopUnit, loop_figures, paired_rollers, pin_phase,
-                                             unit_pin_laws)
+from rvbacklash.models.elastic.chain import (N_ELEMENTS, LoopUnit, loop_figures, paired_rollers,
+                                             prepare_pins_indexed)
 from rvbacklash.models.elastic.loads import (LoadGeometry, crank_bearing_loads, crank_torques_nmm, disc_resultants,
                                              pin_stresses_mpa, support_bearing_loads)
 from rvbacklash.models.elastic.unit import ElasticUnit
-from rvbacklash.models.elastic.solver import (N_TRANSLATION_ROWS, POSITIVE, DiscTranslation, PinSet, ContactSet,
-                                              closure_order, law_force, new_state, set_bounds, solve_pins)
+from rvbacklash.models.elastic.solver import POSITIVE, law_force, new_state, solve_pins
 
 LIFE_OUTPUTS = 4  # life [h], weakest bearing's life [h], derived rated torque [N m], largest pin stress [MPa]
 LIFE, WEAKEST, RATED_TORQUE, PIN_STRESS = range(LIFE_OUTPUTS)
@@ -84,42 +82,6 @@ def life_scratch(discs, zp, cranks):
     return LifeScratch(np.zeros((discs, zp)), np.zeros((discs, zp)), np.empty((discs, 3)), np.empty((discs, cranks, 2)),
                        np.empty(cranks), np.zeros((cranks, 2, 2)), np.empty(discs * zp, dtype=np.int64),
                        np.empty(N_ELEMENTS))
-
-
-@njit(nogil=True, cache=True)
-def prepare_pins_indexed(unit, c, translating, table, order_out):
-    """``chain.prepare_pins`` (the same PinSet, contact by contact: a test checks it) that also writes
-    each contact's pin (flat index d z_p + j) into ``order_out``, so that the life can place each
-    contact's force on its pin."""
-    chi = unit.chi_rad
-    discs, zp = unit.gap_um.shape
-    g = unit.gap_um.ravel()
-    lev = unit.lever_um_per_rad.ravel() / c.lever_factor
-    m = g.size
-    laws = unit_pin_laws(chi, c, zp, discs, table)
-    npos, nneg = -1, 0
-    if translating:
-        order = np.arange(m)
-    else:
-        order, npos, nneg = closure_order(g, lev, m)
-    gk = np.empty(m)
-    lk = np.empty(m)
-    ak = np.empty(m)
-    rk = np.zeros(m)
-    dk = np.empty(m, dtype=np.int64)
-    for i in range(m):
-        j = order[i]
-        order_out[i] = j
-        gk[i] = g[j]
-        lk[i] = lev[j]
-        ak[i] = laws[j]
-        dk[i] = j // zp
-        if translating:
-            rk[i] = cm.pin_radial_closure(pin_phase(j, chi, zp, discs), c.k1)
-    rows, n_shift, n_sys = (discs, m, discs) if translating else (0, 0, 0)
-    translation = DiscTranslation(np.zeros((N_TRANSLATION_ROWS, rows)), np.empty(n_shift), np.empty((n_sys, n_sys)),
-                                  np.empty(n_sys))
-    return PinSet(ContactSet(gk, lk, ak, set_bounds(gk, lk, m), np.zeros(m), npos, nneg), rk, dk, translation)
 
 
 @njit(cache=True)
