@@ -195,8 +195,8 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     g = problem.cycloid
     table = cached_table(g, positions, float(r.chi_rad))  # None beyond TABLE_POSITIONS: solved a part at a time
     perfect = perfect_unit(problem, r.chi_rad)
-    ref = reference_revolution(problem, positions, float(r.chi_rad))
-    run = revolution(problem, r, positions, table=table)
+    ref = reference_revolution(problem, positions, float(r.chi_rad), record=True)
+    run = revolution(problem, r, positions, table=table, record=True)
     theta = ref.theta_rad
 
     def te(rev: Revolution) -> tuple[np.ndarray, np.ndarray]:
@@ -210,7 +210,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     def extremes(unit: Realization, rev: Revolution) -> tuple[tuple[float, float], tuple[float, float]]:
         """(min, max) [arcsec] of the load direction's flank and of the other, refined between the
         positions (models.kinematics.curve_extremes)."""
-        ccw_x, cw_x = curve_extremes(g, unit, perfect, kin, rev, ref)
+        ccw_x, cw_x = curve_extremes(g, unit, perfect, kin, rev.curve, ref.between)
         main_x, other_x = (ccw_x, cw_x) if loaded else (cw_x, ccw_x)
         return (main_x[0] * ARCSEC_PER_RAD, main_x[1] * ARCSEC_PER_RAD), \
             (other_x[0] * ARCSEC_PER_RAD, other_x[1] * ARCSEC_PER_RAD)
@@ -231,7 +231,7 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
             if not _has(r, perfect, group):
                 continue
             without = _without(r, perfect, group)
-            rev = revolution(problem, without, positions, table=table)
+            rev = revolution(problem, without, positions, table=table, record=True)
             c, w = te(rev)
             m = c if loaded else w
             (m_lo, m_hi), _ = extremes(without, rev)

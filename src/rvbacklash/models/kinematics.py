@@ -103,11 +103,16 @@ class CurveScratch(NamedTuple):
 
 
 class FlankCurve(NamedTuple):
-    """Both flanks' output positions [rad] at every output position and the preload [um] (te_curve)."""
+    """Both flanks' output positions [rad] at every output position and the preload [um] (te_curve);
+    when asked (``gap_um`` of as many rows as positions; else 0 rows), every pin's linearised gap
+    [um] and lever [um/rad] there, (N, discs, z_p) each (PinGaps at each position: what
+    step_extremes interpolates between the positions)."""
 
     ccw_rad: np.ndarray
     cw_rad: np.ndarray
     preload_um: np.ndarray
+    gap_um: np.ndarray
+    lever_um_per_rad: np.ndarray
 
 
 def output_positions(g: ContactGeometry, positions: int, chi0_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -326,6 +331,9 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
         else:
             lo, hi, flat = free_interval(coef[n], stage, scratch.pins, placed, gaps, scratch.work.pin_tooth_pitch_um[0])
             free, ccw, cw, preload = not (hi < lo or flat < 0.0), hi, -lo, 0.0
+        if curve.gap_um.shape[0] > 0:
+            curve.gap_um[n] = gaps.gap_um
+            curve.lever_um_per_rad[n] = gaps.lever_um_per_rad
         if not free:
             if exact:
                 lo, hi, _ = free_interval_bounds(gaps, stage.pitch_radius_um)
@@ -348,13 +356,16 @@ def curve_scratch(zp, zc, discs, planets):
 
 
 def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, kin: Kinematics, exact: bool = True,
-                    coef: np.ndarray | None = None) -> FlankCurve:
+                    coef: np.ndarray | None = None, record: bool = False) -> FlankCurve:
     """Both flanks' positions [rad] and the preload [um] of one unit (a Realization) at the output
     positions (theta, chis) of ``output_positions``. ``coef``: the mesh_table there
     (``position_table``'s); None: built TABLE_POSITIONS positions at a time (each position is solved
-    on its own: the same numbers, in bounded memory)."""
+    on its own: the same numbers, in bounded memory). ``record``: also every pin's gap and lever at
+    each position (FlankCurve; single precision: they only say where to look between positions)."""
     n = chis.size
-    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n))
+    rows = n if record else 0
+    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n), np.empty((rows, g.discs, g.zp), np.float32),
+                       np.empty((rows, g.discs, g.zp), np.float32))
     stage, unit, scratch = g.stage_geometry, unit_errors(r, kin.planets), curve_scratch(g.zp, g.zc, g.discs, kin.planets)
     step = TABLE_POSITIONS if coef is None else max(n, 1)
     for start in range(0, n, step):
@@ -366,22 +377,171 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
 
 # The extremes of a TE curve between its positions (curve_extremes). The curve has features narrower
 # than a position step: in a free stage a flank's position is the first contact, the least of the pins'
-# contact rotations, so its TE peaks in a cusp wherever the first contact switches pins (z_c z_p times a
-# revolution, 1560 for rv80e: more often than the default 1024 positions); and a preloaded stage whose
-# interference only a pin near the line of centres carries (a pin with almost no lever) swings to one
-# end of the rotation the other pins leave (balanced_rotation), or is freed for a fraction of a pin pitch
-# between two preloaded positions. The sampled peak-to-peak then depends on where the positions fall
-# (issue 36 item 8: +4.2 % on average from 1024 to 4096 positions, up to +20.7 %). Refined by branch and
-# bound over the steps between positions, for both flanks' min and max at once:
-# - a step can hold a value beyond its ends' mean by at most half the largest change between two free
-#   neighbours (the curve's sampled slope) times SLOPE_SAFETY;
-# - a step with a preloaded end can reach the other flank's position at the free positions beside it
-#   (a swing);
-# the steps whose bound passes the best value found are searched, largest excess first, at REFINE_POINTS
-# sub-steps and then, for the goals the step improved, REFINE_LEVELS zooms of ZOOM_POINTS about their best, until no bound passes
-# (at most REFINE_STEPS steps). Not caught: a stage freed, or swung, only between two preloaded positions
-# whose curve shows nothing of it (the residue measured in docs/transmission-error.md).
-SLOPE_SAFETY, REFINE_POINTS, ZOOM_POINTS, REFINE_LEVELS, REFINE_STEPS = 2.0, 16, 8, 3, 256
+# contact rotations, so it peaks in a cusp wherever the first contact switches pins (z_c z_p times a
+# revolution, 1560 for rv80e: more often than the default 1024 positions); a preloaded stage swings
+# from one end of the rotation its other pins leave to the other when the one pin that interferes
+# crosses the line of centres (balanced_rotation); a stage may be freed, or preloaded, for a fraction
+# of a step. The sampled peak-to-peak then depends on where the positions fall (issue 36 item 8: +4.2 %
+# on average from 1024 to 4096 positions, up to +20.7 %). Every pin's gap and lever are smooth in the
+# output angle (the unit's errors and the osculating circles turn smoothly with it), so between the
+# positions they are interpolated (cubic, through the two positions either side), and the flank
+# positions they give - first contacts, or the balanced rotation where they interfere - are evaluated
+# at STEP_POINTS - 1 points a step and either side of each point where a pin that may interfere has
+# its lever cross zero (a swing; step_extremes: no trigonometry, a few ms a curve): that shows where in
+# a step a cusp, a swing or a short free stretch lies, and how far it reaches. The steps whose
+# estimate passes the sampled extreme (the CANDIDATES best for each of the four extremes) are then
+# solved on the exact curve at the estimate's point (and at NEAR_OFFSETS about the best one: a narrow
+# feature of the solved curve sits near, not at, its estimate) and searched about the best
+# (ZOOM_LEVELS pattern-search levels): every figure is a point of the solved curve, never an
+# interpolated one. Not seen: a stage the exact solve finds preloaded (a pin facing a tooth tip) while
+# its linearised gaps are free, for less than a step (docs/transmission-error.md: one unit of 40).
+STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
+NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
+SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
+SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def cubic_weights(f):
+    """Lagrange weights of the values at -1, 0, 1, 2 for the point f (0 <= f <= 1) between 0 and 1
+    (cubic through four equally spaced points; Abramowitz & Stegun 25.2.13, interpolation error
+    O(h^4) for a smooth function)."""
+    return (-f * (f - 1.0) * (f - 2.0) / 6.0, (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0,
+            -(f + 1.0) * f * (f - 2.0) / 2.0, (f + 1.0) * f * (f - 1.0) / 6.0)
+
+
+@njit(nogil=True, cache=True)
+def interpolated_flanks(curve, n, f, azc_um, gaps):
+    """(ccw, cw) flank positions [rad] at the point f (0..1) of step n -> n + 1 of FlankCurve
+    ``curve`` (recorded: its gaps and levers, a closed revolution), from every pin's gap and lever
+    interpolated there (cubic_weights) into ``gaps`` (PinGaps scratch): the first contacts of the
+    free interval (free_interval_bounds; azc_um: a z_c [um]), or where they interfere both flanks at
+    the balanced rotation (te_curve's rules on the linearised gaps)."""
+    rows = curve.gap_um.shape[0]
+    w = cubic_weights(f)
+    ks = ((n - 1) % rows, n, (n + 1) % rows, (n + 2) % rows)
+    g, lv = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = g.shape
+    for d in range(discs):
+        for j in range(zp):
+            gv, lv_ = 0.0, 0.0
+            for i in range(4):
+                gv += w[i] * curve.gap_um[ks[i], d, j]
+                lv_ += w[i] * curve.lever_um_per_rad[ks[i], d, j]
+            g[d, j] = gv
+            lv[d, j] = lv_
+    lo, hi, flat = free_interval_bounds(gaps, azc_um)
+    if hi < lo or flat < 0.0:
+        b = balanced_rotation(gaps, lo, hi)
+        return b, b
+    return hi, lo
+
+
+class ReferenceFlanks(NamedTuple):
+    """The error-free unit's flank positions [rad] at the output positions and between them
+    (reference_flanks): what every unit's TE subtracts."""
+
+    ccw_rad: np.ndarray  # (N,)
+    cw_rad: np.ndarray
+    between_rad: np.ndarray  # (2, N, points): ccw, cw at the point s / points of step n (s = 0: the position)
+
+
+@njit(nogil=True, cache=True)
+def flanks_between(curve, azc_um, out):
+    """Both flank positions [rad] at the points s / points (s = 1 .. points - 1; points =
+    out.shape[2]) of every step of the recorded FlankCurve ``curve`` (interpolated_flanks) into out
+    (2, N, points); s = 0: the sampled positions."""
+    rows, discs, zp = curve.gap_um.shape
+    points = out.shape[2]
+    gaps = pin_gaps(discs, zp)
+    for n in range(rows):
+        out[0, n, 0] = curve.ccw_rad[n]
+        out[1, n, 0] = curve.cw_rad[n]
+        for s in range(1, points):
+            out[0, n, s], out[1, n, s] = interpolated_flanks(curve, n, s / points, azc_um, gaps)
+
+
+def reference_flanks(curve: FlankCurve, azc_um: float, points: int = STEP_POINTS) -> ReferenceFlanks:
+    """ReferenceFlanks of the error-free unit's recorded FlankCurve (flanks_between)."""
+    between = np.empty((2, curve.ccw_rad.size, points))
+    flanks_between(curve, azc_um, between)
+    return ReferenceFlanks(np.array(curve.ccw_rad), np.array(curve.cw_rad), between)
+
+
+@njit(nogil=True, cache=True)
+def lever_zero(run, n, d, j):
+    """Where (the fraction of step n -> n + 1) the lever of pin j of disc d, interpolated as
+    interpolated_flanks does (cubic_weights), crosses 0, given that its ends have opposite signs:
+    bisection to 1e-6 of a step."""
+    rows = run.lever_um_per_rad.shape[0]
+    ks = ((n - 1) % rows, n, (n + 1) % rows, (n + 2) % rows)
+    lo, hi = 0.0, 1.0
+    sign0 = run.lever_um_per_rad[n, d, j] > 0.0
+    while hi - lo > 1e-6:
+        mid = 0.5 * (lo + hi)
+        w = cubic_weights(mid)
+        v = 0.0
+        for i in range(4):
+            v += w[i] * run.lever_um_per_rad[ks[i], d, j]
+        if (v > 0.0) == sign0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def reference_at(ref, n, f):
+    """The error-free unit's (ccw, cw) flank positions [rad] at the point f (0..1) of step n, linear
+    between the points of ReferenceFlanks ``ref`` (its ripple is 0.07 arcsec for rv80e)."""
+    points, rows = ref.between_rad.shape[2], ref.between_rad.shape[1]
+    x = f * points
+    s = min(int(x), points - 1)
+    t = x - s
+    n2, s2 = (n, s + 1) if s + 1 < points else ((n + 1) % rows, 0)
+    return ((1.0 - t) * ref.between_rad[0, n, s] + t * ref.between_rad[0, n2, s2],
+            (1.0 - t) * ref.between_rad[1, n, s] + t * ref.between_rad[1, n2, s2])
+
+
+@njit(nogil=True, cache=True)
+def step_extremes(run, ref, azc_um, value, at):
+    """For each step n -> n + 1 of a revolution and each of the four extremes (ccw max, ccw min, cw
+    max, cw min: the largest of +TE_ccw, -TE_ccw, +TE_cw, -TE_cw) the largest value [rad] in the
+    step, interpolated (interpolated_flanks) on the unit's recorded FlankCurve ``run`` less the
+    error-free unit's there (``ref``: ReferenceFlanks, reference_at), into value (4, N), and where
+    (the fraction of the step) into at (4, N). Read at the interior points s / points of the step
+    (points: ref.between_rad.shape[2]) and on both sides of each point where an interfering pin's
+    lever changes sign (a swing of the balanced rotation, narrower than a step: the comment above)."""
+    rows, discs, zp = run.gap_um.shape
+    points = ref.between_rad.shape[2]
+    gaps = pin_gaps(discs, zp)
+    fs = np.empty(points - 1 + 2 * discs * zp)
+    for n in range(rows):
+        for i in range(4):
+            value[i, n] = -np.inf
+            at[i, n] = 0.5
+        m = 0
+        for s in range(1, points):
+            fs[m] = s / points
+            m += 1
+        n1 = (n + 1) % rows
+        for d in range(discs):
+            for j in range(zp):
+                l0, l1 = run.lever_um_per_rad[n, d, j], run.lever_um_per_rad[n1, d, j]
+                if min(run.gap_um[n, d, j], run.gap_um[n1, d, j]) < SWING_GAP_UM and l0 * l1 < 0.0:
+                    f0 = lever_zero(run, n, d, j)
+                    fs[m] = max(f0 - SWING_SIDE, 1e-6)
+                    fs[m + 1] = min(f0 + SWING_SIDE, 1.0 - 1e-6)
+                    m += 2
+        for k in range(m):
+            f = fs[k]
+            c, w = interpolated_flanks(run, n, f, azc_um, gaps)
+            c0, w0 = reference_at(ref, n, f)
+            te_c, te_w = c - c0, w - w0
+            for i, v in enumerate((te_c, -te_c, te_w, -te_w)):
+                if v > value[i, n]:
+                    value[i, n] = v
+                    at[i, n] = f
 
 
 def flank_te(g: ContactGeometry, r, reference, kin: Kinematics, theta: np.ndarray,
@@ -397,64 +557,49 @@ def flank_te(g: ContactGeometry, r, reference, kin: Kinematics, theta: np.ndarra
     return np.stack([a.ccw_rad - b.ccw_rad, a.cw_rad - b.cw_rad])
 
 
-def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run, ref,
+def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: FlankCurve, ref: ReferenceFlanks,
                    exact: bool = True) -> tuple[tuple[float, float], tuple[float, float]]:
     """((min, max) of the ccw flank's TE, (min, max) of the cw flank's) [rad] over the revolution of
-    unit ``r``: ``run`` and ``ref`` its and the error-free unit's (``reference``) flank positions and
-    the preload at equal output steps from theta = 0 (FlankCurve or Revolution). The sampled
-    extremes, refined between the positions (the comment above). A flat curve (the error-free
-    unit) is returned as sampled."""
+    unit ``r``: ``run`` its recorded FlankCurve (flank_positions(record=True)) at equal output steps
+    from theta = 0, ``ref`` the error-free unit's (``reference``) ReferenceFlanks. The sampled extremes,
+    refined between the positions (the comment above): each figure is the solved curve's value at
+    a position or at a point found between two."""
     n = run.ccw_rad.size
     te = np.stack([run.ccw_rad - ref.ccw_rad, run.cw_rad - ref.cw_rad])
-    other = np.stack([run.cw_rad - ref.ccw_rad, run.ccw_rad - ref.cw_rad])  # the other flank, on each one's scale
-    # objectives: sign * te[flank] to maximise, (flank, sign) in this order
-    goals = ((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))
-    best = np.array([float(sign * te[f].max()) for f, sign in goals])
-    if np.ptp(te) == 0.0:
-        return (float(te[0].min()), float(te[0].max())), (float(te[1].min()), float(te[1].max()))
+    goals = ((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))  # (flank, sign): maximise sign * TE of the flank
+    best = np.array([float((sign * te[f]).max()) for f, sign in goals])
+    where = np.array([float(np.argmax(sign * te[f])) for f, sign in goals])  # in steps
+    value, at = np.empty((4, n)), np.empty((4, n))
+    step_extremes(run, ref, g.pitch_radius_um, value, at)
     step = 2.0 * math.pi / n
-    pre = np.asarray(run.preload_um)
-    preloaded = pre > 0.0
-    after = np.roll(preloaded, -1)
-    free_pair = ~preloaded & ~after  # steps free at both ends
-    bounds = np.empty((4, n))
-    for i, (f, sign) in enumerate(goals):
-        s = sign * te[f]
-        nxt = np.roll(s, -1)
-        change = np.abs(nxt - s)[free_pair]
-        b = 0.5 * (s + nxt) + SLOPE_SAFETY * 0.5 * (float(change.max()) if change.size else 0.0)
-        reach = np.where(preloaded, -np.inf, sign * other[f])  # the other flank's position at free positions
-        reach = np.maximum.reduce([np.roll(reach, k) for k in (1, 0, -1, -2)])
-        b = np.where(preloaded | after, np.maximum(b, reach), b)
-        bounds[i] = b
-    open_ = np.ones(n, bool)
-    for _ in range(REFINE_STEPS):
-        excess = np.where(open_, np.max(bounds - best[:, None], axis=0), -np.inf)
-        k = int(np.argmax(excess))
-        if not excess[k] > 0.0:
-            break
-        open_[k] = False
-        # search step k: sub-steps, then zooms about each goal's best
-        at = k * step + step * np.linspace(0.0, 1.0, REFINE_POINTS + 1)
-        w = flank_te(g, r, reference, kin, at, exact)
-        centres, goals_in = [], []  # zoomed: the goals this step improved
+
+    def solve(points: list[list[float]]) -> None:
+        """Solve the curve at each goal's points (in steps) and keep what passes its best."""
+        flat = np.concatenate([np.asarray(p, float) for p in points])
+        if flat.size == 0:
+            return
+        w = flank_te(g, r, reference, kin, (flat % n) * step, exact)  # a revolution is closed
+        k = 0
         for i, (f, sign) in enumerate(goals):
-            j = int(np.argmax(sign * w[f]))
-            if sign * w[f, j] > best[i]:
-                best[i] = float(sign * w[f, j])
-                centres.append(at[j])
-                goals_in.append(i)
-        half = step / REFINE_POINTS
-        for _ in range(REFINE_LEVELS if goals_in else 0):
-            offsets = half * np.linspace(-1.0, 1.0, ZOOM_POINTS + 1)
-            at = (np.array(centres)[:, None] + offsets[None, :]).ravel()
-            w = flank_te(g, r, reference, kin, at, exact).reshape(2, len(goals_in), ZOOM_POINTS + 1)
-            for c, i in enumerate(goals_in):
-                f, sign = goals[i]
-                j = int(np.argmax(sign * w[f, c]))
-                best[i] = max(best[i], float(sign * w[f, c, j]))
-                centres[c] = centres[c] + offsets[j]
-            half *= 2.0 / ZOOM_POINTS
+            for x in points[i]:
+                if sign * w[f, k] > best[i]:
+                    best[i], where[i] = float(sign * w[f, k]), x
+                k += 1
+
+    # the steps whose interpolated extreme passes the sampled one, best first
+    first = []
+    for i in range(4):
+        order = np.argsort(value[i])[::-1][:CANDIDATES]
+        points = [float(k + at[i, k]) for k in order if value[i, k] > best[i]]
+        if points:  # about the best estimate too: the solved curve's narrow features sit near, not at, it
+            points += [points[0] + o for o in NEAR_OFFSETS]
+        first.append(points)
+    solve(first)
+    # a pattern search about each extreme found: a cusp or a swing's end to within a small part of a step
+    d = 1.0 / STEP_POINTS
+    for _ in range(ZOOM_LEVELS):
+        solve([[float(where[i] + o * d) for o in (-1.0, -0.5, 0.5, 1.0)] for i in range(4)])
+        d *= 0.5
     return (-best[1], best[0]), (-best[3], best[2])
 
 
@@ -487,13 +632,13 @@ def cached_table(g: ContactGeometry, positions: int, chi0_rad: float) -> Positio
 
 
 def revolution_curve(g: ContactGeometry, r, positions: int, chi0_rad: float, kin: Kinematics, exact: bool,
-                     table: PositionTable | None) -> tuple[np.ndarray, FlankCurve]:
+                     table: PositionTable | None, record: bool = False) -> tuple[np.ndarray, FlankCurve]:
     """(theta, FlankCurve) of unit ``r`` at ``positions`` output positions from chi0 (``table``:
-    their PositionTable, or None)."""
+    their PositionTable, or None; ``record``: flank_positions')."""
     if table is None:
         theta, chis = output_positions(g, positions, chi0_rad)
-        return theta, flank_positions(g, r, theta, chis, kin, exact)
-    return table.theta_rad, flank_positions(g, r, table.theta_rad, table.chi_rad, kin, exact, table.coef)
+        return theta, flank_positions(g, r, theta, chis, kin, exact, record=record)
+    return table.theta_rad, flank_positions(g, r, table.theta_rad, table.chi_rad, kin, exact, table.coef, record)
 
 
 def lost_motion_arcmin(ccw_rad, cw_rad) -> np.ndarray:
@@ -515,32 +660,39 @@ class Revolution:
     ccw_rad: np.ndarray
     cw_rad: np.ndarray
     preload_um: np.ndarray
+    curve: FlankCurve | None = None  # recorded (every pin's gap and lever: curve_extremes), when asked
+    between: ReferenceFlanks | None = None  # the error-free unit's (reference_revolution), recorded
 
 
 def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITIONS, exact: bool = True,
-               table: PositionTable | None = None) -> Revolution:
+               table: PositionTable | None = None, record: bool = False) -> Revolution:
     """Both flanks' positions of unit ``r`` over one output revolution from its crank angle r.chi_rad
-    (models.kinematics). ``table``: a PositionTable to reuse."""
+    (models.kinematics). ``table``: a PositionTable to reuse; ``record``: keep the recorded curve."""
     g = problem.cycloid
     table = table if table is not None else cached_table(g, positions, float(r.chi_rad))
-    theta, curve = revolution_curve(g, r, positions, float(r.chi_rad), kinematics(problem), exact, table)
-    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um)
+    theta, curve = revolution_curve(g, r, positions, float(r.chi_rad), kinematics(problem), exact, table, record)
+    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um, curve if record else None)
 
 
 @functools.lru_cache(maxsize=8)
 def _reference(g, kin: Kinematics, equidistance_um: float, moving_distance_um: float, clearance_um: float,
-               chi0_rad: float, positions: int, exact: bool) -> Revolution:
+               chi0_rad: float, positions: int, exact: bool, record: bool) -> Revolution:
     r = Realization.nominal(g, equidistance_um, moving_distance_um, clearance_um, chi0_rad)
-    theta, curve = revolution_curve(g, r, positions, chi0_rad, kin, exact, cached_table(g, positions, chi0_rad))
-    for x in curve:
+    theta, curve = revolution_curve(g, r, positions, chi0_rad, kin, exact, cached_table(g, positions, chi0_rad),
+                                    record)
+    between = reference_flanks(curve, g.pitch_radius_um) if record else None
+    for x in (*curve, *(between or ())):
         x.flags.writeable = False
-    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um)
+    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um, curve if record else None, between)
 
 
-def reference_revolution(problem: Problem, positions: int, chi0_rad: float = 0.0, exact: bool = True) -> Revolution:
+def reference_revolution(problem: Problem, positions: int, chi0_rad: float = 0.0, exact: bool = True,
+                         record: bool = False) -> Revolution:
     """The error-free unit's revolution (``perfect_unit``): the same for every unit of a design, so
-    it is computed once per design, start and resolution (cached; read-only arrays)."""
+    it is computed once per design, start and resolution (cached; read-only arrays). ``record``:
+    revolution's."""
     s2 = problem.design.second_stage
     clearance = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
     return _reference(problem.cycloid, kinematics(problem), float(s2.equidistance_modification_um),
-                      float(s2.moving_distance_modification_um), clearance, float(chi0_rad), int(positions), exact)
+                      float(s2.moving_distance_modification_um), clearance, float(chi0_rad), int(positions), exact,
+                      bool(record))
