@@ -26,7 +26,7 @@ from rvbacklash.analysis.contact import linear_stage_means
 from rvbacklash.errors import InputError
 from rvbacklash.models.unit_errors import Realization
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, DEFAULT_POSITIONS, Kinematics, Revolution, kinematics,  # noqa: F401
-                                          cached_table, lost_motion_arcmin, perfect_unit,
+                                          cached_table, curve_extremes, lost_motion_arcmin, perfect_unit,
                                           reference_revolution, revolution)
 from rvbacklash.problem import Problem
 from rvbacklash.results import EXPORT, Result
@@ -47,15 +47,18 @@ ASSUMPTIONS = ("rigid bodies, no load; exact cycloid-pin geometry with every too
 
 
 def min_positions(problem: Problem) -> int:
-    """Fewest positions per revolution: order 4 z_p resolved (more than 8 z_p samples)."""
-    return 8 * problem.cycloid.zp + 1
+    """Fewest positions per revolution: 8 z_p, the production run's (sampling.te_source), so that a
+    saved unit can be re-run on the run's own grid; orders below 4 z_p resolved."""
+    from rvbacklash.sampling.te_source import POSITIONS_PER_PIN
+
+    return POSITIONS_PER_PIN * problem.cycloid.zp
 
 
 def check_positions(problem: Problem, positions) -> int:
     lo = min_positions(problem)
     if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or not lo <= positions <= MAX_POSITIONS:
         raise InputError("positions", positions, f"allowed: a whole number {lo} <= positions <= {MAX_POSITIONS} "
-                                                 f"(order 4 z_p resolved; z_p = {problem.cycloid.zp})")
+                                                 f"(8 z_p, the production run's grid, and up; z_p = {problem.cycloid.zp})")
     return int(positions)
 
 
@@ -94,8 +97,8 @@ class TransmissionErrorResult(Result):
     unit: str  # "nominal", or which measured / sampled unit
     positions: int
     load_direction: str  # the flank of the headline TE figures: ccw (output driven counter-clockwise) or cw
-    te_peak_to_peak_arcsec: float  # the catalogue figure, load_direction's flank
-    te_min_arcsec: float
+    te_peak_to_peak_arcsec: float  # the catalogue figure, load_direction's flank: the curve's, refined between positions
+    te_min_arcsec: float  # (the sampled curve te_*_arcsec may stay inside these: kinematics.curve_extremes)
     te_max_arcsec: float
     te_peak_to_peak_other_flank_arcsec: float
     # the output's rigid lost motion = cycloid stage + other_stages_arcmin (module docstring)
@@ -192,15 +195,27 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
     g = problem.cycloid
     table = cached_table(g, positions, float(r.chi_rad))  # None beyond TABLE_POSITIONS: solved a part at a time
     perfect = perfect_unit(problem, r.chi_rad)
-    ref = reference_revolution(problem, positions, float(r.chi_rad))
-    run = revolution(problem, r, positions, table=table)
+    ref = reference_revolution(problem, positions, float(r.chi_rad), record=True)
+    run = revolution(problem, r, positions, table=table, record=True)
     theta = ref.theta_rad
 
     def te(rev: Revolution) -> tuple[np.ndarray, np.ndarray]:
         return (rev.ccw_rad - ref.ccw_rad) * ARCSEC_PER_RAD, (rev.cw_rad - ref.cw_rad) * ARCSEC_PER_RAD
 
     ccw, cw = te(run)
-    main, other_flank = (ccw, cw) if load_direction == "ccw" else (cw, ccw)
+    main = ccw if load_direction == "ccw" else cw
+    loaded = load_direction == "ccw"
+    kin = kinematics(problem)
+
+    def extremes(unit: Realization, rev: Revolution) -> tuple[tuple[float, float], tuple[float, float]]:
+        """(min, max) [arcsec] of the load direction's flank and of the other, refined between the
+        positions (models.kinematics.curve_extremes)."""
+        ccw_x, cw_x = curve_extremes(g, unit, perfect, kin, rev.curve, ref.between)
+        main_x, other_x = (ccw_x, cw_x) if loaded else (cw_x, ccw_x)
+        return (main_x[0] * ARCSEC_PER_RAD, main_x[1] * ARCSEC_PER_RAD), \
+            (other_x[0] * ARCSEC_PER_RAD, other_x[1] * ARCSEC_PER_RAD)
+
+    (te_min, te_max), (other_min, other_max) = extremes(r, run)
     stage = lost_motion_arcmin(run.ccw_rad, run.cw_rad)  # the cycloid stage's gap
     other_from = "given" if other_stages_arcmin is not None else "linear means"
     other = float(other_stages_arcmin) if other_stages_arcmin is not None else \
@@ -215,13 +230,16 @@ def transmission_error(problem: Problem, r: Realization, label: str, positions: 
         for group in GROUPS:
             if not _has(r, perfect, group):
                 continue
-            c, w = te(revolution(problem, _without(r, perfect, group), positions, table=table))
-            m = c if load_direction == "ccw" else w
-            out_shares.append(GroupShare(group, float(np.ptp(m)), 1.0 - float(np.var(m)) / var if var > 0 else 0.0))
+            without = _without(r, perfect, group)
+            rev = revolution(problem, without, positions, table=table, record=True)
+            c, w = te(rev)
+            m = c if loaded else w
+            (m_lo, m_hi), _ = extremes(without, rev)
+            out_shares.append(GroupShare(group, m_hi - m_lo, 1.0 - float(np.var(m)) / var if var > 0 else 0.0))
     ripple = (ref.ccw_rad if load_direction == "ccw" else ref.cw_rad) * ARCSEC_PER_RAD
     return TransmissionErrorResult(
-        problem.name, label, positions, load_direction, float(np.ptp(main)), float(main.min()), float(main.max()),
-        float(np.ptp(other_flank)), float(lm.max()), float(lm.min()), float(lm[0]), float(stage.max()),
+        problem.name, label, positions, load_direction, te_max - te_min, te_min, te_max,
+        other_max - other_min, float(lm.max()), float(lm.min()), float(lm[0]), float(stage.max()),
         float(stage.min()), float(stage[0]), other, other_from, int(np.count_nonzero(run.preload_um > 0)),
         float(np.ptp(ripple)), tuple(SpectralLine(int(k), float(spec[k])) for k in lead), tuple(out_shares),
         math.degrees(r.chi_rad), ASSUMPTIONS, np.degrees(theta), ccw, cw, lm, spec)

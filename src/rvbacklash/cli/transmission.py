@@ -60,8 +60,8 @@ def transmission_error(
                                             "default: the nominal unit.", metavar="UNIT.toml"),
     unit: Optional[int] = typer.Option(None, "--unit", help="The unit of --measured to run (0-based); default: the "
                                                            "first."),
-    positions: int = typer.Option(1024, "--positions", help="Output positions per revolution (at least 8 z_p + 1: "
-                                                            "order 4 z_p resolved)."),
+    positions: int = typer.Option(1024, "--positions", help="Output positions per revolution (at least 8 z_p, "
+                                                            "the production run's grid: 320 for rv80e)."),
     load_direction: str = typer.Option("ccw", "--load-direction", help="Flank of the headline figures: ccw | cw."),
     json_out: Optional[str] = json_option("the figures, the curves and the spectrum"),
     csv_out: Optional[str] = csv_option("the curves (one row per output position)"),

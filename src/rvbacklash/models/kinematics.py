@@ -46,7 +46,7 @@ from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
 from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH, PinGaps,
-                                      StageWork, _linear_maxmin, free_interval_bounds, mesh_table, pin_gaps,
+                                      StageWork, free_interval_bounds, mesh_table, pin_gaps,
                                       stage_play, stage_work)
 from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
@@ -103,11 +103,16 @@ class CurveScratch(NamedTuple):
 
 
 class FlankCurve(NamedTuple):
-    """Both flanks' output positions [rad] at every output position and the preload [um] (te_curve)."""
+    """Both flanks' output positions [rad] at every output position and the preload [um] (te_curve);
+    when asked (``gap_um`` of as many rows as positions; else 0 rows), every pin's linearised gap
+    [um] and lever [um/rad] there, (N, discs, z_p) each (PinGaps at each position: what
+    step_extremes interpolates between the positions)."""
 
     ccw_rad: np.ndarray
     cw_rad: np.ndarray
     preload_um: np.ndarray
+    gap_um: np.ndarray
+    lever_um_per_rad: np.ndarray
 
 
 def output_positions(g: ContactGeometry, positions: int, chi0_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -223,13 +228,68 @@ def free_interval(coef, stage, pins, unit, gaps, scratch):
 
 
 @njit(nogil=True, cache=True)
+def balanced_rotation(gaps, lo, hi):
+    """The rotation beta [rad] of a preloaded stage at which the interfering pins' contact forces
+    balance, on the linearised gaps of PinGaps ``gaps`` (gap_j(beta) = g_j - l_j beta [um], l_j
+    [um/rad]); (lo, hi): their free interval (free_interval_bounds).
+
+    Each pin pressed into the profile by p_j = max(0, l_j beta - g_j) [um] pushes along the profile
+    normal with k p_j, and l_j is that force's moment arm about the disc centre (a rotation d beta
+    closes the gap by l_j d beta), so the stage rests without torque where
+        F(beta) = sum_j l_j max(0, l_j beta - g_j) = 0,
+    the minimum of the contacts' strain energy k/2 sum_j p_j^2 (the principle of minimum potential
+    energy; ASSUMPTION: every pin contact equally stiff and linear, the first elastic refinement of
+    the rigid model). F is continuous and non-decreasing in beta, and rises wherever a pin with a
+    lever interferes: its root moves continuously with the gaps. (The rotation that maximises the
+    smallest gap, used before, does not: when the deepest interference sits at a pin without lever,
+    on the line of centres, that maximum is flat and its end jumps from one side to the other as the
+    pin's lever changes sign: 53 arcsec within 1/65 536 rev, issue 36 item 8.) When hi < lo the
+    root lies in [hi, lo] (below hi only rising gaps interfere: F < 0; above lo only falling ones);
+    when only pins without lever interfere, every beta of [lo, hi] balances and the middle is
+    returned. Newton on the piecewise-linear F (exact once the set of interfering pins is right),
+    bisection when a step leaves the bracket."""
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = gap.shape
+    left, right = min(lo, hi), max(lo, hi)
+    bracketed = math.isfinite(left) and math.isfinite(right)
+    beta = 0.5 * (left + right) if bracketed else 0.0
+    if not bracketed:
+        left, right = -np.inf, np.inf
+    for _ in range(100):
+        f, slope = 0.0, 0.0
+        for d in range(discs):
+            for j in range(zp):
+                lv = lever[d, j]
+                p = lv * beta - gap[d, j]
+                if p > 0.0:
+                    f += lv * p
+                    slope += lv * lv
+        if f == 0.0 or slope == 0.0:
+            return beta
+        if f > 0.0:
+            right = beta
+        else:
+            left = beta
+        nxt = beta - f / slope
+        if not left < nxt < right:
+            if not (math.isfinite(left) and math.isfinite(right)):
+                break  # pragma: no cover - a stage has pins with levers of both signs: F is bracketed at once
+            nxt = 0.5 * (left + right)
+        if abs(nxt - beta) <= 1e-15 + 1e-13 * abs(beta):
+            return nxt
+        beta = nxt
+    return beta
+
+
+@njit(nogil=True, cache=True)
 def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
     """Both flanks' output positions [rad] at every output position of ``table`` (PositionTable: the
     contact model's mesh_table at each) and the preload [um] (0 where the stage is free) into
     ``curve`` (FlankCurve) for the unit whose UnitErrors are ``unit``, its reference position at
     crank angle chi0 (module docstring). ``stage``: StageGeometry; ``kin``: the design's Kinematics;
-    ``scratch``: curve_scratch. Where the stage is preloaded both flanks sit at the rotation that
-    balances the deepest interferences (its linearisation) and the lost motion is 0. ``exact``:
+    ``scratch``: curve_scratch. Where the stage is preloaded both flanks sit at the rotation where
+    the interfering pins' forces balance (balanced_rotation, on the linearised gaps) and the lost
+    motion is 0. ``exact``:
     each first contact solved on the exact curve (stage_play); else linearised at the assembled
     position (unit_gaps' free interval: the production run's fast path, error bounded in the tests)."""
     a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
@@ -271,8 +331,13 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
         else:
             lo, hi, flat = free_interval(coef[n], stage, scratch.pins, placed, gaps, scratch.work.pin_tooth_pitch_um[0])
             free, ccw, cw, preload = not (hi < lo or flat < 0.0), hi, -lo, 0.0
+        if curve.gap_um.shape[0] > 0:
+            curve.gap_um[n] = gaps.gap_um
+            curve.lever_um_per_rad[n] = gaps.lever_um_per_rad
         if not free:
-            b = _linear_maxmin(gaps, np.inf, np.inf)
+            if exact:
+                lo, hi, _ = free_interval_bounds(gaps, stage.pitch_radius_um)
+            b = balanced_rotation(gaps, lo, hi)
             curve.ccw_rad[n] = b
             curve.cw_rad[n] = b
             curve.preload_um[n] = preload
@@ -291,13 +356,16 @@ def curve_scratch(zp, zc, discs, planets):
 
 
 def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, kin: Kinematics, exact: bool = True,
-                    coef: np.ndarray | None = None) -> FlankCurve:
+                    coef: np.ndarray | None = None, record: bool = False) -> FlankCurve:
     """Both flanks' positions [rad] and the preload [um] of one unit (a Realization) at the output
     positions (theta, chis) of ``output_positions``. ``coef``: the mesh_table there
     (``position_table``'s); None: built TABLE_POSITIONS positions at a time (each position is solved
-    on its own: the same numbers, in bounded memory)."""
+    on its own: the same numbers, in bounded memory). ``record``: also every pin's gap and lever at
+    each position (FlankCurve; single precision: they only say where to look between positions)."""
     n = chis.size
-    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n))
+    rows = n if record else 0
+    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n), np.empty((rows, g.discs, g.zp), np.float32),
+                       np.empty((rows, g.discs, g.zp), np.float32))
     stage, unit, scratch = g.stage_geometry, unit_errors(r, kin.planets), curve_scratch(g.zp, g.zc, g.discs, kin.planets)
     step = TABLE_POSITIONS if coef is None else max(n, 1)
     for start in range(0, n, step):
@@ -305,6 +373,234 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
         table = PositionTable(theta[part], chis[part], mesh_table(g, chis[part]) if coef is None else coef)
         te_curve(stage, kin, table, unit, float(r.chi_rad), scratch, FlankCurve(*(x[part] for x in curve)), exact)
     return curve
+
+
+# The extremes of a TE curve between its positions (curve_extremes). The curve has features narrower
+# than a position step: in a free stage a flank's position is the first contact, the least of the pins'
+# contact rotations, so it peaks in a cusp wherever the first contact switches pins (z_c z_p times a
+# revolution, 1560 for rv80e: more often than the default 1024 positions); a preloaded stage swings
+# from one end of the rotation its other pins leave to the other when the one pin that interferes
+# crosses the line of centres (balanced_rotation); a stage may be freed, or preloaded, for a fraction
+# of a step. The sampled peak-to-peak then depends on where the positions fall (issue 36 item 8: +4.2 %
+# on average from 1024 to 4096 positions, up to +20.7 %). Every pin's gap and lever are smooth in the
+# output angle (the unit's errors and the osculating circles turn smoothly with it), so between the
+# positions they are interpolated (cubic, through the two positions either side), and the flank
+# positions they give - first contacts, or the balanced rotation where they interfere - are evaluated
+# at STEP_POINTS - 1 points a step and either side of each point where a pin that may interfere has
+# its lever cross zero (a swing; step_extremes: no trigonometry, a few ms a curve): that shows where in
+# a step a cusp, a swing or a short free stretch lies, and how far it reaches. The steps whose
+# estimate passes the sampled extreme (the CANDIDATES best for each of the four extremes) are then
+# solved on the exact curve at the estimate's point (and at NEAR_OFFSETS about the best one: a narrow
+# feature of the solved curve sits near, not at, its estimate) and searched about the best
+# (ZOOM_LEVELS pattern-search levels): every figure is a point of the solved curve, never an
+# interpolated one. Not seen: a stage the exact solve finds preloaded (a pin facing a tooth tip) while
+# its linearised gaps are free, for less than a step (docs/transmission-error.md: one unit of 40).
+STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
+NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
+SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
+SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def cubic_weights(f):
+    """Lagrange weights of the values at -1, 0, 1, 2 for the point f (0 <= f <= 1) between 0 and 1
+    (cubic through four equally spaced points; Abramowitz & Stegun 25.2.13, interpolation error
+    O(h^4) for a smooth function)."""
+    return (-f * (f - 1.0) * (f - 2.0) / 6.0, (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0,
+            -(f + 1.0) * f * (f - 2.0) / 2.0, (f + 1.0) * f * (f - 1.0) / 6.0)
+
+
+@njit(nogil=True, cache=True)
+def interpolated_flanks(curve, n, f, azc_um, gaps):
+    """(ccw, cw) flank positions [rad] at the point f (0..1) of step n -> n + 1 of FlankCurve
+    ``curve`` (recorded: its gaps and levers, a closed revolution), from every pin's gap and lever
+    interpolated there (cubic_weights) into ``gaps`` (PinGaps scratch): the first contacts of the
+    free interval (free_interval_bounds; azc_um: a z_c [um]), or where they interfere both flanks at
+    the balanced rotation (te_curve's rules on the linearised gaps)."""
+    rows = curve.gap_um.shape[0]
+    w = cubic_weights(f)
+    ks = ((n - 1) % rows, n, (n + 1) % rows, (n + 2) % rows)
+    g, lv = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = g.shape
+    for d in range(discs):
+        for j in range(zp):
+            gv, lv_ = 0.0, 0.0
+            for i in range(4):
+                gv += w[i] * curve.gap_um[ks[i], d, j]
+                lv_ += w[i] * curve.lever_um_per_rad[ks[i], d, j]
+            g[d, j] = gv
+            lv[d, j] = lv_
+    lo, hi, flat = free_interval_bounds(gaps, azc_um)
+    if hi < lo or flat < 0.0:
+        b = balanced_rotation(gaps, lo, hi)
+        return b, b
+    return hi, lo
+
+
+class ReferenceFlanks(NamedTuple):
+    """The error-free unit's flank positions [rad] at the output positions and between them
+    (reference_flanks): what every unit's TE subtracts."""
+
+    ccw_rad: np.ndarray  # (N,)
+    cw_rad: np.ndarray
+    between_rad: np.ndarray  # (2, N, points): ccw, cw at the point s / points of step n (s = 0: the position)
+
+
+@njit(nogil=True, cache=True)
+def flanks_between(curve, azc_um, out):
+    """Both flank positions [rad] at the points s / points (s = 1 .. points - 1; points =
+    out.shape[2]) of every step of the recorded FlankCurve ``curve`` (interpolated_flanks) into out
+    (2, N, points); s = 0: the sampled positions."""
+    rows, discs, zp = curve.gap_um.shape
+    points = out.shape[2]
+    gaps = pin_gaps(discs, zp)
+    for n in range(rows):
+        out[0, n, 0] = curve.ccw_rad[n]
+        out[1, n, 0] = curve.cw_rad[n]
+        for s in range(1, points):
+            out[0, n, s], out[1, n, s] = interpolated_flanks(curve, n, s / points, azc_um, gaps)
+
+
+def reference_flanks(curve: FlankCurve, azc_um: float, points: int = STEP_POINTS) -> ReferenceFlanks:
+    """ReferenceFlanks of the error-free unit's recorded FlankCurve (flanks_between)."""
+    between = np.empty((2, curve.ccw_rad.size, points))
+    flanks_between(curve, azc_um, between)
+    return ReferenceFlanks(np.array(curve.ccw_rad), np.array(curve.cw_rad), between)
+
+
+@njit(nogil=True, cache=True)
+def lever_zero(run, n, d, j):
+    """Where (the fraction of step n -> n + 1) the lever of pin j of disc d, interpolated as
+    interpolated_flanks does (cubic_weights), crosses 0, given that its ends have opposite signs:
+    bisection to 1e-6 of a step."""
+    rows = run.lever_um_per_rad.shape[0]
+    ks = ((n - 1) % rows, n, (n + 1) % rows, (n + 2) % rows)
+    lo, hi = 0.0, 1.0
+    sign0 = run.lever_um_per_rad[n, d, j] > 0.0
+    while hi - lo > 1e-6:
+        mid = 0.5 * (lo + hi)
+        w = cubic_weights(mid)
+        v = 0.0
+        for i in range(4):
+            v += w[i] * run.lever_um_per_rad[ks[i], d, j]
+        if (v > 0.0) == sign0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def reference_at(ref, n, f):
+    """The error-free unit's (ccw, cw) flank positions [rad] at the point f (0..1) of step n, linear
+    between the points of ReferenceFlanks ``ref`` (its ripple is 0.07 arcsec for rv80e)."""
+    points, rows = ref.between_rad.shape[2], ref.between_rad.shape[1]
+    x = f * points
+    s = min(int(x), points - 1)
+    t = x - s
+    n2, s2 = (n, s + 1) if s + 1 < points else ((n + 1) % rows, 0)
+    return ((1.0 - t) * ref.between_rad[0, n, s] + t * ref.between_rad[0, n2, s2],
+            (1.0 - t) * ref.between_rad[1, n, s] + t * ref.between_rad[1, n2, s2])
+
+
+@njit(nogil=True, cache=True)
+def step_extremes(run, ref, azc_um, value, at):
+    """For each step n -> n + 1 of a revolution and each of the four extremes (ccw max, ccw min, cw
+    max, cw min: the largest of +TE_ccw, -TE_ccw, +TE_cw, -TE_cw) the largest value [rad] in the
+    step, interpolated (interpolated_flanks) on the unit's recorded FlankCurve ``run`` less the
+    error-free unit's there (``ref``: ReferenceFlanks, reference_at), into value (4, N), and where
+    (the fraction of the step) into at (4, N). Read at the interior points s / points of the step
+    (points: ref.between_rad.shape[2]) and on both sides of each point where an interfering pin's
+    lever changes sign (a swing of the balanced rotation, narrower than a step: the comment above)."""
+    rows, discs, zp = run.gap_um.shape
+    points = ref.between_rad.shape[2]
+    gaps = pin_gaps(discs, zp)
+    fs = np.empty(points - 1 + 2 * discs * zp)
+    for n in range(rows):
+        for i in range(4):
+            value[i, n] = -np.inf
+            at[i, n] = 0.5
+        m = 0
+        for s in range(1, points):
+            fs[m] = s / points
+            m += 1
+        n1 = (n + 1) % rows
+        for d in range(discs):
+            for j in range(zp):
+                l0, l1 = run.lever_um_per_rad[n, d, j], run.lever_um_per_rad[n1, d, j]
+                if min(run.gap_um[n, d, j], run.gap_um[n1, d, j]) < SWING_GAP_UM and l0 * l1 < 0.0:
+                    f0 = lever_zero(run, n, d, j)
+                    fs[m] = max(f0 - SWING_SIDE, 1e-6)
+                    fs[m + 1] = min(f0 + SWING_SIDE, 1.0 - 1e-6)
+                    m += 2
+        for k in range(m):
+            f = fs[k]
+            c, w = interpolated_flanks(run, n, f, azc_um, gaps)
+            c0, w0 = reference_at(ref, n, f)
+            te_c, te_w = c - c0, w - w0
+            for i, v in enumerate((te_c, -te_c, te_w, -te_w)):
+                if v > value[i, n]:
+                    value[i, n] = v
+                    at[i, n] = f
+
+
+def flank_te(g: ContactGeometry, r, reference, kin: Kinematics, theta: np.ndarray,
+             exact: bool = True) -> np.ndarray:
+    """TE [rad] of both flanks of unit ``r`` (a Realization) at output angles ``theta`` [rad], (2,
+    theta.size): ccw, cw. Each flank's position minus the error-free unit's (``reference``) there,
+    both from the crank angle r.chi_rad."""
+    chi0 = float(r.chi_rad)
+    chis = chi0 - g.zc * theta
+    coef = mesh_table(g, chis)
+    a = flank_positions(g, r, theta, chis, kin, exact, coef)
+    b = flank_positions(g, reference, theta, chis, kin, exact, coef)
+    return np.stack([a.ccw_rad - b.ccw_rad, a.cw_rad - b.cw_rad])
+
+
+def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: FlankCurve, ref: ReferenceFlanks,
+                   exact: bool = True) -> tuple[tuple[float, float], tuple[float, float]]:
+    """((min, max) of the ccw flank's TE, (min, max) of the cw flank's) [rad] over the revolution of
+    unit ``r``: ``run`` its recorded FlankCurve (flank_positions(record=True)) at equal output steps
+    from theta = 0, ``ref`` the error-free unit's (``reference``) ReferenceFlanks. The sampled extremes,
+    refined between the positions (the comment above): each figure is the solved curve's value at
+    a position or at a point found between two."""
+    n = run.ccw_rad.size
+    te = np.stack([run.ccw_rad - ref.ccw_rad, run.cw_rad - ref.cw_rad])
+    goals = ((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))  # (flank, sign): maximise sign * TE of the flank
+    best = np.array([float((sign * te[f]).max()) for f, sign in goals])
+    where = np.array([float(np.argmax(sign * te[f])) for f, sign in goals])  # in steps
+    value, at = np.empty((4, n)), np.empty((4, n))
+    step_extremes(run, ref, g.pitch_radius_um, value, at)
+    step = 2.0 * math.pi / n
+
+    def solve(points: list[list[float]]) -> None:
+        """Solve the curve at each goal's points (in steps) and keep what passes its best."""
+        flat = np.concatenate([np.asarray(p, float) for p in points])
+        if flat.size == 0:
+            return
+        w = flank_te(g, r, reference, kin, (flat % n) * step, exact)  # a revolution is closed
+        k = 0
+        for i, (f, sign) in enumerate(goals):
+            for x in points[i]:
+                if sign * w[f, k] > best[i]:
+                    best[i], where[i] = float(sign * w[f, k]), x
+                k += 1
+
+    # the steps whose interpolated extreme passes the sampled one, best first
+    first = []
+    for i in range(4):
+        order = np.argsort(value[i])[::-1][:CANDIDATES]
+        points = [float(k + at[i, k]) for k in order if value[i, k] > best[i]]
+        if points:  # about the best estimate too: the solved curve's narrow features sit near, not at, it
+            points += [points[0] + o for o in NEAR_OFFSETS]
+        first.append(points)
+    solve(first)
+    # a pattern search about each extreme found: a cusp or a swing's end to within a small part of a step
+    d = 1.0 / STEP_POINTS
+    for _ in range(ZOOM_LEVELS):
+        solve([[float(where[i] + o * d) for o in (-1.0, -0.5, 0.5, 1.0)] for i in range(4)])
+        d *= 0.5
+    return (-best[1], best[0]), (-best[3], best[2])
 
 
 def kinematics(problem: Problem) -> Kinematics:
@@ -336,13 +632,13 @@ def cached_table(g: ContactGeometry, positions: int, chi0_rad: float) -> Positio
 
 
 def revolution_curve(g: ContactGeometry, r, positions: int, chi0_rad: float, kin: Kinematics, exact: bool,
-                     table: PositionTable | None) -> tuple[np.ndarray, FlankCurve]:
+                     table: PositionTable | None, record: bool = False) -> tuple[np.ndarray, FlankCurve]:
     """(theta, FlankCurve) of unit ``r`` at ``positions`` output positions from chi0 (``table``:
-    their PositionTable, or None)."""
+    their PositionTable, or None; ``record``: flank_positions')."""
     if table is None:
         theta, chis = output_positions(g, positions, chi0_rad)
-        return theta, flank_positions(g, r, theta, chis, kin, exact)
-    return table.theta_rad, flank_positions(g, r, table.theta_rad, table.chi_rad, kin, exact, table.coef)
+        return theta, flank_positions(g, r, theta, chis, kin, exact, record=record)
+    return table.theta_rad, flank_positions(g, r, table.theta_rad, table.chi_rad, kin, exact, table.coef, record)
 
 
 def lost_motion_arcmin(ccw_rad, cw_rad) -> np.ndarray:
@@ -364,32 +660,39 @@ class Revolution:
     ccw_rad: np.ndarray
     cw_rad: np.ndarray
     preload_um: np.ndarray
+    curve: FlankCurve | None = None  # recorded (every pin's gap and lever: curve_extremes), when asked
+    between: ReferenceFlanks | None = None  # the error-free unit's (reference_revolution), recorded
 
 
 def revolution(problem: Problem, r: Realization, positions: int = DEFAULT_POSITIONS, exact: bool = True,
-               table: PositionTable | None = None) -> Revolution:
+               table: PositionTable | None = None, record: bool = False) -> Revolution:
     """Both flanks' positions of unit ``r`` over one output revolution from its crank angle r.chi_rad
-    (models.kinematics). ``table``: a PositionTable to reuse."""
+    (models.kinematics). ``table``: a PositionTable to reuse; ``record``: keep the recorded curve."""
     g = problem.cycloid
     table = table if table is not None else cached_table(g, positions, float(r.chi_rad))
-    theta, curve = revolution_curve(g, r, positions, float(r.chi_rad), kinematics(problem), exact, table)
-    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um)
+    theta, curve = revolution_curve(g, r, positions, float(r.chi_rad), kinematics(problem), exact, table, record)
+    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um, curve if record else None)
 
 
 @functools.lru_cache(maxsize=8)
 def _reference(g, kin: Kinematics, equidistance_um: float, moving_distance_um: float, clearance_um: float,
-               chi0_rad: float, positions: int, exact: bool) -> Revolution:
+               chi0_rad: float, positions: int, exact: bool, record: bool) -> Revolution:
     r = Realization.nominal(g, equidistance_um, moving_distance_um, clearance_um, chi0_rad)
-    theta, curve = revolution_curve(g, r, positions, chi0_rad, kin, exact, cached_table(g, positions, chi0_rad))
-    for x in curve:
+    theta, curve = revolution_curve(g, r, positions, chi0_rad, kin, exact, cached_table(g, positions, chi0_rad),
+                                    record)
+    between = reference_flanks(curve, g.pitch_radius_um) if record else None
+    for x in (*curve, *(between or ())):
         x.flags.writeable = False
-    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um)
+    return Revolution(theta, curve.ccw_rad, curve.cw_rad, curve.preload_um, curve if record else None, between)
 
 
-def reference_revolution(problem: Problem, positions: int, chi0_rad: float = 0.0, exact: bool = True) -> Revolution:
+def reference_revolution(problem: Problem, positions: int, chi0_rad: float = 0.0, exact: bool = True,
+                         record: bool = False) -> Revolution:
     """The error-free unit's revolution (``perfect_unit``): the same for every unit of a design, so
-    it is computed once per design, start and resolution (cached; read-only arrays)."""
+    it is computed once per design, start and resolution (cached; read-only arrays). ``record``:
+    revolution's."""
     s2 = problem.design.second_stage
     clearance = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
     return _reference(problem.cycloid, kinematics(problem), float(s2.equidistance_modification_um),
-                      float(s2.moving_distance_modification_um), clearance, float(chi0_rad), int(positions), exact)
+                      float(s2.moving_distance_modification_um), clearance, float(chi0_rad), int(positions), exact,
+                      bool(record))

@@ -137,7 +137,8 @@ def evaluate_chunk(stage, kin, table, batch, ref_ccw, out, saved):
     its rigid lost motion at the reference position [arcmin], 0 where preloaded)."""
     n = table.chi_rad.size
     scratch = curve_scratch(stage.zp, stage.zc, stage.discs, kin.planets)
-    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n))
+    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n), np.empty((0, stage.discs, stage.zp), np.float32),
+                       np.empty((0, stage.discs, stage.zp), np.float32))  # nothing recorded: sampled p-p
     ccw, cw = curve.ccw_rad, curve.cw_rad
     lin = batch.linear_arcmin
     for s in range(lin.size):
