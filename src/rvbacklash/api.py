@@ -310,7 +310,7 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
         cycle = read_duty_cycle(example_duty_cycle(duty_cycle))
         efficiency = efficiency or not service_life  # alone, it asks for the efficiency section's thermal balance
     life_cycle = life_hours = None
-    life_spec = float(dict(specs or {}).get("lost_motion", 1.5))
+    life_spec = float(dict(specs or {}).get("lost_motion", spec_arcmin if model == "elastic" and spec_arcmin else 1.5))
     if service_life:  # its inputs checked before any work too
         from rvbacklash.analysis.service_life.stepping import check_hours
         from rvbacklash.design.duty_cycle import read_duty_cycle

@@ -77,3 +77,9 @@ def test_a_bad_duty_cycle_or_hours_fail_first_with_one_line(tmp_path):
     one_line_error(run_cli("report", "rv80e", "-n", "100", "--service-life", "--hours", "0,x", "-o", html), "hours")
     one_line_error(run_cli("report", "rv80e", "-n", "100", "--hours", "0,500", "-o", html), "--service-life")
     assert not html.exists()
+
+
+def test_the_elastic_models_lost_motion_spec_is_the_sections():
+    data = rb.make_report("rv80e", samples=50, seed=1, model="elastic", spec_arcmin=1.2, service_life=True,
+                          service_life_hours=(0,))
+    assert data.service_life.production.spec_lost_motion_arcmin == 1.2 and data.service_life.production.units == 50
