@@ -316,8 +316,8 @@ def report(
     service_life: bool = typer.Option(False, "--service-life", help="Add the service-life section (lost motion and "
                                       "yield vs hours of --duty-cycle, default robot-joint; a production run of at "
                                       "most 2000 units: docs/service-life.md)."),
-    hours: str = typer.Option("0,1000,6000", "--hours", help="Hours of the duty cycle at which the service-life "
-                              "section reports, comma-separated (with --service-life)."),
+    hours: Optional[str] = typer.Option(None, "--hours", help="Hours of the duty cycle at which the service-life "
+                                        "section reports, comma-separated (with --service-life; default 0,1000,6000)."),
     select: Optional[str] = typer.Option(None, "--select", help="Add the selective assembly section (--model "
                                          "contact, elastic or transmission, a spec): as simulate --select; default: "
                                          "the design's [selection] table; none: no section."),
@@ -350,11 +350,11 @@ def report(
     if yield_target is not None and not allocate:
         raise InputError("--yield", yield_target, "allowed with --allocate only")
     life_hours = None
-    if service_life:
+    if service_life and hours is not None:
         from rvbacklash.cli.service_life import _hours
 
         life_hours = _hours(hours)
-    elif hours != "0,1000,6000":
+    elif hours is not None:
         raise InputError("--hours", hours, "allowed with --service-life only")
     out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)
     problem = api.prepare(design)
