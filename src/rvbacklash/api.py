@@ -43,6 +43,7 @@ DesignLike = Union[Design, str, Path, Problem]
 DEFAULT_SAMPLES = 1_000_000  # = analysis.simulation.DEFAULT_SAMPLES (a test keeps them equal)
 ALLOCATION_SAMPLES = 1 << 16  # per candidate of a Monte-Carlo allocation (= analysis.allocation.DEFAULT_MC_SAMPLES)
 REPORT_SCENARIO_SAMPLES = 1_000_000  # scenarios of a report: at most this many samples each
+REPORT_SERVICE_LIFE_SAMPLES = 2000  # units of a report's service-life production run (at most)
 REPORT_SELECTION_SAMPLES = 4000  # each point of a report's yield versus the pin classes (+-1.6 points at 95 %)
 
 
@@ -276,7 +277,8 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                 allocate_samples: int = ALLOCATION_SAMPLES,
                 sweep_dir: str | Path | None = None,
                 progress: Callable[[int], None] | None = None, capacity: bool = False, efficiency: bool = False,
-                duty_cycle: str | Path | None = None, select=None) -> ReportData:
+                duty_cycle: str | Path | None = None, select=None, service_life: bool = False,
+                service_life_hours: Iterable[float] = (0.0, 1000.0, 6000.0)) -> ReportData:
     """Everything a report shows (render it with ``rvbacklash.render_html``): stack-up,
     simulation, scenarios (those given, plus Fig. 4's when ``paper``), nominal contact; with
     ``model="elastic"`` the test-bench section (nominal loop, the 5 % and 95 % units' loops,
@@ -306,7 +308,18 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
         from rvbacklash.design.duty_cycle import read_duty_cycle
 
         cycle = read_duty_cycle(example_duty_cycle(duty_cycle))
-        efficiency = True
+        efficiency = efficiency or not service_life  # alone, it asks for the efficiency section's thermal balance
+    life_cycle = life_hours = None
+    life_spec = float(dict(specs or {}).get("lost_motion", spec_arcmin if model == "elastic" and spec_arcmin else 1.5))
+    if service_life:  # its inputs checked before any work too
+        from rvbacklash.analysis.service_life.stepping import check_hours
+        from rvbacklash.design.duty_cycle import read_duty_cycle
+
+        life_hours = check_hours(service_life_hours)
+        life_cycle = cycle if cycle is not None else read_duty_cycle(example_duty_cycle("robot-joint"))
+        if problem.design.elastic is None:
+            raise InputError("elastic", None, "the service-life section needs the design's [elastic] table (the "
+                                              "loads of the elastic model; docs/service-life.md)")
     if allocate_model is not None and allocate_model not in ("linear", "contact", "elastic", "transmission"):
         raise InputError("allocate_model", allocate_model, "allowed: linear, contact, elastic or transmission")
     if allocate_model is not None and not allocate:
@@ -401,8 +414,14 @@ def make_report(design: DesignLike, *, samples: int = DEFAULT_SAMPLES, seed: int
                                      samples=min(samples, REPORT_SELECTION_SAMPLES), seed=seed,
                                      noises=(selection.noise_um,),
                                      specs=dict(list(sweep_specs.items())[:1]), workers=workers, model=model)
+    life = None
+    if service_life and not sim.partial:  # precision over the service life (issue 38): a modest run keeps it fast
+        from rvbacklash.analysis.service_life.datasheet import service_life as _service_life
+
+        life = _service_life(problem, life_cycle, life_hours, samples=min(samples, REPORT_SERVICE_LIFE_SAMPLES),
+                             seed=seed, spec_lost_motion_arcmin=life_spec)
     return build_report_data(problem, stack, sim, spec_arcmin, comparison, nominal_contact(problem), sens, alloc,
-                             elastic, sweep, transmission, cap, trade, eff, chosen_run, picked_classes)
+                             elastic, sweep, transmission, cap, trade, eff, chosen_run, picked_classes, life)
 
 
 def sweep(sweep, *, out: str | Path | None = None, scheduler=None, workers: int | None = None, force: bool = False,

@@ -37,13 +37,15 @@ class ReportData(Result):
     efficiency: object | None = None  # analysis.losses.EfficiencyResult (issue 40): losses, efficiency, temperature
     selection: object | None = None  # analysis.selection.run.SelectionResult: the run selected (issue 39)
     selection_sweep: object | None = None  # analysis.selection.run.ClassSweep: yield vs the pin classes
+    service_life: object | None = None  # analysis.service_life.ServiceLifeResult (issue 38): precision over time
 
     @property
     def partial(self) -> bool:
         return self.simulation.partial or any(getattr(x, "partial", False) for x in (self.comparison, self.sensitivity,
                                                                                        self.allocation,
                                                                                        self.capacity_trade,
-                                                                                       self.selection))
+                                                                                       self.selection,
+                                                                                       self.service_life))
 
     def key_numbers(self) -> dict:
         """The numbers the page marks, by the JSON path they have in ``to_dict``, the chosen model's
@@ -131,7 +133,7 @@ class ReportData(Result):
                 "sweep": d(self.sweep), "transmission": d(self.transmission), "capacity": d(self.capacity),
                 "capacity_trade": d(self.capacity_trade), "efficiency": d(self.efficiency),
                 "selection": self._selection_dict(),
-                "selection_sweep": d(self.selection_sweep)}
+                "selection_sweep": d(self.selection_sweep), "service_life": d(self.service_life)}
 
     def _selection_dict(self) -> dict | None:
         """The selection's result without its two runs' full figures: the random run is ``simulation``;
@@ -210,11 +212,13 @@ def build_report_data(problem: Problem, stackup: StackupResult, simulation: Simu
                       spec_arcmin: float | None, comparison: Comparison | None = None,
                       contact: NominalContact | None = None, sensitivity=None, allocation=None, elastic=None,
                       sweep=None, transmission=None, capacity=None,
-                      capacity_trade=None, efficiency=None, selection=None, selection_sweep=None) -> ReportData:
+                      capacity_trade=None, efficiency=None, selection=None, selection_sweep=None,
+                      service_life=None) -> ReportData:
     warnings = validity_warnings(problem, stackup, simulation)
     if elastic is not None:  # the elastic section's nominal unit (also beside another model's run)
         warnings += tuple(f"elastic section: {w}" for w in elastic.nominal.warnings
                           if not any(w in x for x in warnings))
     return ReportData(problem, stackup, simulation, spec_arcmin, comparison, contact, warnings,
                       _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), sensitivity, allocation,
-                      elastic, sweep, transmission, capacity, capacity_trade, efficiency, selection, selection_sweep)
+                      elastic, sweep, transmission, capacity, capacity_trade, efficiency, selection, selection_sweep,
+                      service_life)

@@ -308,9 +308,16 @@ def report(
     efficiency: bool = typer.Option(False, "--efficiency", help="Add the losses, efficiency and temperature section "
                                                                 "(the nominal unit's datasheet: docs/efficiency.md)."),
     duty_cycle: Optional[str] = typer.Option(None, "--duty-cycle", help="A duty cycle (CSV or TOML, as `efficiency`'s, "
-                                             "or a packaged cycle's name) for the section's thermal balance: the steady "
-                                             "case temperature and lost motion there (implies --efficiency).",
+                                             "or a packaged cycle's name): the duty cycle of the efficiency and "
+                                             "service-life sections (the efficiency section's thermal balance: the "
+                                             "steady case temperature and lost motion there). Alone it implies "
+                                             "--efficiency; with --service-life it does not.",
                                              metavar="FILE"),
+    service_life: bool = typer.Option(False, "--service-life", help="Add the service-life section (lost motion and "
+                                      "yield vs hours of --duty-cycle, default robot-joint; a production run of at "
+                                      "most 2000 units: docs/service-life.md)."),
+    hours: Optional[str] = typer.Option(None, "--hours", help="Hours of the duty cycle at which the service-life "
+                                        "section reports, comma-separated (with --service-life; default 0,1000,6000)."),
     select: Optional[str] = typer.Option(None, "--select", help="Add the selective assembly section (--model "
                                          "contact, elastic or transmission, a spec): as simulate --select; default: "
                                          "the design's [selection] table; none: no section."),
@@ -322,7 +329,7 @@ def report(
     quiet: bool = QUIET_OPTION,
 ) -> None:
     """One self-contained HTML report: design, factors, stack-up, charts, Monte-Carlo, scenarios
-    (and the test-bench loop, the Sobol indices, the tolerance allocation, a sweep, when asked)."""
+    (and the test-bench loop, the Sobol indices, the tolerance allocation, a sweep, the service life, when asked)."""
     import rvbacklash.api as api
     from rvbacklash.report.files import render_csv, render_json
     from rvbacklash.report.html import render_html
@@ -342,6 +349,13 @@ def report(
                                                 "--allocate needs it")
     if yield_target is not None and not allocate:
         raise InputError("--yield", yield_target, "allowed with --allocate only")
+    life_hours = None
+    if service_life and hours is not None:
+        from rvbacklash.cli.service_life import _hours
+
+        life_hours = _hours(hours)
+    elif hours is not None:
+        raise InputError("--hours", hours, "allowed with --service-life only")
     out = Outputs(fmt, force, quiet, output=output, json=json_out, csv=csv_out)
     problem = api.prepare(design)
     from rvbacklash.analysis.selection.classes import resolve_selection
@@ -364,7 +378,8 @@ def report(
                                allocate_model=allocate_model,
                                allocate_samples=parse_samples(allocate_samples), sweep_dir=sweep,
                                progress=progress, capacity=capacity, efficiency=efficiency, duty_cycle=duty_cycle,
-                               select=selection)
+                               select=selection, service_life=service_life,
+                               **({"service_life_hours": life_hours} if life_hours is not None else {}))
     summary = {"report": str(out.paths["--output"].resolve()), **data.metadata(),
                "key_numbers": data.key_numbers()}
     rows = data.rows()

@@ -44,6 +44,11 @@ def render_html(data: ReportData) -> str:
         from rvbacklash.report.efficiency_plots import efficiency_svg
 
         extra.update(efficiency=data.efficiency, efficiency_figure=plots.inline_svg(efficiency_svg(data.efficiency)))
+    if data.service_life is not None:
+        from rvbacklash.report.service_life_plots import service_life_svg
+
+        extra.update(service_life=data.service_life,
+                     service_life_figure=plots.inline_svg(service_life_svg(data.service_life)))
     if data.selection is not None:
         extra.update(selection=data.selection)
         if data.selection_sweep is not None:
