@@ -647,12 +647,15 @@ def sensitivity(design: DesignLike, *, model: str = "linear", output: str | None
                               resamples=resamples, progress=progress)
 
 
-def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, model: str = "linear",
+def allocate(design: DesignLike, *, spec_arcmin: float | None = None, yield_target: float, model: str | None = None,
              spec_rigidity_nm_per_arcmin: float | None = None, spec_preload_um: float | None = None,
              spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
              spec_rated_torque_nm: float | None = None, samples: int = ALLOCATION_SAMPLES, seed: int = 0,
              scheduler: str = "inline", workers: int | None = None, pareto: bool = True,
-             progress: Callable[[int], None] | None = None) -> AllocationResult:
+             progress: Callable[[int], None] | None = None, spec_accuracy_life_h: float | None = None,
+             duty_cycle: str | Path | None = None, spec_lost_motion_arcmin: float | None = None,
+             angles: int | None = None, step_fraction: float | None = None,
+             unit_wear: str = "own") -> AllocationResult:
     """The cheapest precision grade per part group such that P(backlash <= spec_arcmin [and
     rigidity >= spec_rigidity_nm_per_arcmin] [and preload <= spec_preload_um] [and TE peak-to-peak
     <= spec_te_arcsec: the transmission model, or the contact model's units turned through a revolution] [and
@@ -662,18 +665,53 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
     and the cost-yield Pareto front (docs/allocation.md). Costs: the design's [costs] table over
     the defaults. The linear model is solved exactly; the Monte-Carlo models (``samples`` per
     candidate, seeded) search locally, their candidates run on ``scheduler`` ("inline", "local" or
-    a Dask address; ``workers``: threads inline, worker processes on a local cluster)."""
+    a Dask address; ``workers``: threads inline, worker processes on a local cluster).
+
+    ``spec_accuracy_life_h`` (with ``duty_cycle``, as ``service_life``'s): the cheapest grades that keep
+    ``yield_target`` of the units' lost motion within ``spec_lost_motion_arcmin`` (or ``spec_arcmin``;
+    default 1.5, as ``service_life``) for that many hours of the cycle, each unit with its own wear
+    (``unit_wear``, ``angles``, ``step_fraction``: as ``service_life``); the elastic model (``model``
+    None or "elastic"), no other spec, ``samples`` units per candidate from 100 (docs/service-life.md,
+    "Allocating on the accuracy life")."""
     import contextlib
 
     from rvbacklash.analysis.allocation import allocate as _allocate
 
     problem = prepare(design)
+    accuracy_life = None
+    if spec_accuracy_life_h is not None:
+        from rvbacklash.analysis.service_life.accuracy_yield import AccuracyLifeTarget
+        from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION
+        from rvbacklash.design.duty_cycle import read_duty_cycle
+
+        if duty_cycle is None:
+            raise InputError("duty_cycle", None, "the accuracy life is hours of a duty cycle; allowed: a duty-cycle "
+                                                 "file (CSV or TOML) or a packaged cycle's name (robot-joint)")
+        if spec_lost_motion_arcmin is not None and spec_arcmin is not None and spec_lost_motion_arcmin != spec_arcmin:
+            raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin,
+                             f"differs from spec_arcmin = {spec_arcmin}; allowed: one lost-motion spec")
+        spec_arcmin = next((v for v in (spec_lost_motion_arcmin, spec_arcmin) if v is not None), 1.5)
+        model = "elastic" if model is None else model
+        accuracy_life = AccuracyLifeTarget(read_duty_cycle(example_duty_cycle(duty_cycle)), spec_accuracy_life_h,
+                                           spec_arcmin, DEFAULT_ANGLES if angles is None else angles,
+                                           DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
+                                           unit_wear).check()
+    else:
+        for name, value in (("duty_cycle", duty_cycle), ("spec_lost_motion_arcmin", spec_lost_motion_arcmin),
+                            ("angles", angles), ("step_fraction", step_fraction)):
+            if value is not None:
+                raise InputError(name, value, "allowed with spec_accuracy_life_h only (the elastic model's lost-motion "
+                                               "spec at 0 h is spec_arcmin)")
+        if unit_wear != "own":
+            raise InputError("unit_wear", unit_wear, "allowed with spec_accuracy_life_h only")
+    model = "linear" if model is None else model
     if model == "linear" or scheduler in (None, "inline"):
         return _allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
                          spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
                          spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
-                         executor=None, workers=workers, pareto=pareto, progress=progress)
+                         executor=None, workers=workers, pareto=pareto, progress=progress,
+                         accuracy_life=accuracy_life)
     try:
         from rvbacklash.analysis.executor import executor
     except ImportError:
@@ -685,7 +723,8 @@ def allocate(design: DesignLike, *, spec_arcmin: float, yield_target: float, mod
                          spec_rigidity_nm_per_arcmin=spec_rigidity_nm_per_arcmin, spec_preload_um=spec_preload_um,
                          spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
                          spec_rated_torque_nm=spec_rated_torque_nm, samples=samples, seed=seed,
-                         executor=ex, workers=None, pareto=pareto, progress=progress)
+                         executor=ex, workers=None, pareto=pareto, progress=progress,
+                         accuracy_life=accuracy_life)
 
 
 def read_bench(files, *, design: DesignLike | None = None, rated_torque_nm: float | None = None,

@@ -58,14 +58,14 @@ def sensitivity(
 @command
 def allocate(
     design: str = typer.Argument(..., help=DESIGN_HELP),
-    spec_arcmin: float = typer.Option(..., "--spec-arcmin", help="Spec (upper limit) of the model's primary "
-                                                                 "output: backlash, lost motion for the elastic "
-                                                                 "model [arcmin]."),
+    spec_arcmin: Optional[float] = typer.Option(None, "--spec-arcmin", help="Spec (upper limit) of the model's "
+                                                "primary output: backlash, lost motion for the elastic model [arcmin] "
+                                                "(required, except with --spec-accuracy-life-h)."),
     yield_target: float = typer.Option(..., "--yield", help="Target yield P: the share of units that must meet "
                                                             "the spec, 0.5 < P < 1 (e.g. 0.99)."),
-    model: str = typer.Option("linear", "--model", help="linear (exact: MILP on the exact distribution) | contact | "
-                                                        "elastic | transmission (Monte-Carlo search with common random "
-                                                        "numbers)."),
+    model: Optional[str] = typer.Option(None, "--model", help="linear (exact: MILP on the exact distribution; the "
+                                        "default) | contact | elastic | transmission (Monte-Carlo search with common "
+                                        "random numbers); with --spec-accuracy-life-h: elastic, the default."),
     spec_rigidity: Optional[float] = typer.Option(None, "--spec-rigidity-nm-per-arcmin",
                                                   help="Also require torsional rigidity >= K [N m/arcmin] "
                                                        "(models with a rigidity output)."),
@@ -81,6 +81,23 @@ def allocate(
                                                 "rated torque and speed >= L [h] (--model elastic; docs/capacity.md)."),
     spec_rated_torque_nm: Optional[float] = typer.Option(None, "--spec-rated-torque-nm", help="Also require the "
                                                          "derived rated torque >= T [N m] (--model elastic)."),
+    spec_accuracy_life_h: Optional[float] = typer.Option(
+        None, "--spec-accuracy-life-h", help="Keep the lost motion within --spec-lost-motion-arcmin for H hours of "
+        "--duty-cycle: the share of units whose accuracy life reaches H, each unit with its own wear, as "
+        "`service-life` reads it (elastic model, no other spec; -n from 100; docs/service-life.md)."),
+    duty_cycle: Optional[str] = typer.Option(None, "--duty-cycle", help="The duty cycle of --spec-accuracy-life-h "
+                                             "(CSV or TOML, as `service-life`'s, or a packaged cycle's name: "
+                                             "robot-joint).", metavar="FILE"),
+    spec_lost_motion_arcmin: Optional[float] = typer.Option(None, "--spec-lost-motion-arcmin", help="The lost-motion "
+                                                            "spec of --spec-accuracy-life-h [arcmin] (or --spec-arcmin; "
+                                                            "default 1.5, as `service-life`)."),
+    angles: Optional[int] = typer.Option(None, "--angles", help="With --spec-accuracy-life-h: crank angles per "
+                                         "revolution of each time step's loads (default 12), as `service-life`."),
+    step_fraction: Optional[float] = typer.Option(None, "--step-fraction", help="With --spec-accuracy-life-h: the "
+                                                  "largest wear depth per time step as a share of the reference "
+                                                  "clearance (default 0.1), as `service-life`."),
+    unit_wear: str = typer.Option("own", "--unit-wear", help="With --spec-accuracy-life-h: 'own' (each unit's own "
+                                  "wear) or 'nominal' (the nominal unit's), as `service-life`."),
     write_design: Optional[str] = typer.Option(None, "--write-design", metavar="FILE",
                                                 help="Write the chosen design (its grades set) as a TOML design "
                                                      "file that simulate re-runs."),
@@ -112,9 +129,16 @@ def allocate(
 
     n = parse_samples(samples)
     threads = workers_or_none(workers)
+    life = spec_accuracy_life_h is not None
+    if not life and spec_arcmin is None:
+        raise InputError("--spec-arcmin", None, "required: the spec of the model's primary output [arcmin] (or "
+                                                "--spec-accuracy-life-h with --duty-cycle)")
     out = Outputs(fmt, force, quiet, write_design=write_design, json=json_out, csv=csv_out, plot=plot)
     problem = api.prepare(design)
     if select_classes is not None:
+        if life:
+            raise InputError("--select-classes", select_classes, "not allowed with --spec-accuracy-life-h")
+        model = model or "linear"
         if plot is not None:
             raise InputError("--plot", plot, "not drawn with --select-classes (its options' table is the result)")
         if spec_life_h is not None or spec_rated_torque_nm is not None:
@@ -123,12 +147,17 @@ def allocate(
         _allocate_classes(problem, design, select_classes, out, spec_arcmin, yield_target, model, spec_rigidity,
                           spec_preload, spec_te_arcsec, n, seed, threads)
         return
-    with progress_bar(None if model == "linear" else 200, what="candidates") as progress:
+    exact = (model or ("elastic" if life else "linear")) == "linear"
+    with progress_bar(None if exact else 200, what="candidates",
+                      note="the first candidate (a first run compiles its kernels, ~1 min, once)" if life else None) \
+            as progress:
         result = api.allocate(problem, spec_arcmin=spec_arcmin, yield_target=yield_target, model=model,
                               spec_rigidity_nm_per_arcmin=spec_rigidity, spec_preload_um=spec_preload,
                               spec_te_arcsec=spec_te_arcsec, spec_life_h=spec_life_h,
                               spec_rated_torque_nm=spec_rated_torque_nm, samples=n, seed=seed, scheduler=scheduler,
-                              workers=threads, progress=progress)
+                              workers=threads, progress=progress, spec_accuracy_life_h=spec_accuracy_life_h,
+                              duty_cycle=duty_cycle, spec_lost_motion_arcmin=spec_lost_motion_arcmin, angles=angles,
+                              step_fraction=step_fraction, unit_wear=unit_wear)
     # every row of the Pareto front says whether the search was interrupted, as every other CSV
     data, rows = result.to_dict(), [{**r, "partial": result.partial} for r in result.front_rows()]
     header = (f"Written by rvbacklash allocate ({problem.source}): {result.binding.constraint}, {result.model} model.\n"
@@ -138,6 +167,12 @@ def allocate(
               + f"; yield {result.yield_.fraction:.6f}.\n"
               + (f"Re-run: rvbacklash simulate FILE --method exact --spec-arcmin {result.spec_arcmin:g}"
                  if result.model == "linear" else
+                 f"Re-run: rvbacklash service-life FILE --duty-cycle {duty_cycle} --hours 0,"
+                 f"{result.spec_accuracy_life_h:g} --spec-lost-motion-arcmin {result.spec_arcmin:g} -n {result.samples} "
+                 f"--seed {result.seed}" + (f" --angles {angles}" if angles is not None else "")
+                 + (f" --step-fraction {step_fraction:g}" if step_fraction is not None else "")
+                 + (f" --unit-wear {unit_wear}" if unit_wear != "own" else "")
+                 + " (accuracy_life_yield)" if life else
                  f"Re-run: rvbacklash simulate FILE --model {result.model} --spec-arcmin {result.spec_arcmin:g} "
                  f"-n {result.samples} --seed {result.seed}"
                  + (f" --spec-rigidity-nm-per-arcmin {spec_rigidity:g}" if spec_rigidity is not None else "")

@@ -37,7 +37,8 @@ FLAGS = {
     "spec_life_h": "--spec-life-h", "spec_rated_torque_nm": "--spec-rated-torque-nm",
     "temperature_c": "--temperature", "output_speed_rpm": "--output-speed", "units": "--units",
     "spec_min_efficiency": "--spec-min-efficiency",
-    "hours": "--hours", "step_fraction": "--step-fraction",
+    "hours": "--hours", "step_fraction": "--step-fraction", "unit_wear": "--unit-wear",
+    "spec_accuracy_life_h": "--spec-accuracy-life-h",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 

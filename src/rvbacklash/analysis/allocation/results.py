@@ -112,6 +112,10 @@ class AllocationResult(Result):
     spec_life_h: float | None = None  # lower limit of the reducer's L10 at the rated torque and speed (elastic)
     spec_rated_torque_nm: float | None = None  # lower limit of the derived rated torque (elastic)
     design: Design | None = field(default=None, metadata={EXPORT: False})
+    # the hours of ``duty_cycle`` a unit's lost motion must stay within spec_arcmin (elastic model, each unit's
+    # own wear: docs/service-life.md); None: no accuracy-life spec
+    spec_accuracy_life_h: float | None = None
+    duty_cycle: str | None = None
     _frame_index = "group"
 
     def rows(self) -> list[dict]:
@@ -122,7 +126,9 @@ class AllocationResult(Result):
 
     def summary(self) -> list[str]:
         y = self.yield_
-        head = (f"{self.design_name}, {self.model} model: P({self.output} <= {self.spec_arcmin:g} arcmin) >= "
+        what = f"{self.output} <= {self.spec_arcmin:g} arcmin" if self.spec_accuracy_life_h is None else \
+            f"lost motion <= {self.spec_arcmin:g} arcmin for {self.spec_accuracy_life_h:g} h of {self.duty_cycle}"
+        head = (f"{self.design_name}, {self.model} model: P({what}) >= "
                 f"{self.yield_target:g}" + ("  [PARTIAL: interrupted]" if self.partial else ""))
         lines = [head, f"cost {self.cost:.4g} {self.unit}, yield {y.fraction:.6f}"
                        + (f" [{y.ci95_low:.6f}, {y.ci95_high:.6f}]" if y.ci95_low != y.ci95_high else " (exact)")]

@@ -13,6 +13,7 @@ an independent stream; if that fails, the next cheapest feasible candidate is ve
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import Callable, Sequence
@@ -78,13 +79,33 @@ def evaluate_candidate(task: tuple) -> Evaluation:
     return Evaluation(joint, per, r.partial, r.output.quantity, float(sets[0]), float(sets[1]))
 
 
+def evaluate_accuracy_life(task: tuple) -> Evaluation:
+    """A task of the executor as ``evaluate_candidate``'s, its ninth element the AccuracyLifeTarget:
+    the share of the candidate's units whose accuracy life reaches the target's hours
+    (analysis.service_life.accuracy_yield). The search stream draws the units `service-life` draws
+    (spawn key (1,)), the verification stream the next (2,)."""
+    from rvbacklash.analysis.service_life.accuracy_yield import SERVICE_LIFE_STREAM, accuracy_life_yield
+
+    design, _model, samples, seed, stream = task[:5]
+    target = task[8]
+    y, partial = accuracy_life_yield(prepare(design), target, samples=samples, seed=seed,
+                                     stream=(SERVICE_LIFE_STREAM[0] + stream[0],))
+    if y is None:
+        y = Proportion(math.nan, math.nan, math.nan)
+    return Evaluation(y, {"accuracy_life": y}, partial, "accuracy_life")
+
+
 class _Runs:
     """Candidates of a Monte-Carlo search, evaluated through an executor and cached."""
 
     def __init__(self, choices: GradeChoices, model: str, samples: int, seed: int, spec_arcmin: float,
-                 specs: dict | None, executor, workers: int | None, stop, progress, selection=None):
+                 specs: dict | None, executor, workers: int | None, stop, progress, selection=None,
+                 evaluate: Callable[[tuple], Evaluation] = evaluate_candidate):
         self.ch, self.model, self.samples, self.seed = choices, model, samples, seed
-        self.selection = selection  # every candidate's units assembled with it (None: at random)
+        # every candidate's units assembled with it (None: at random); with ``evaluate_accuracy_life``, the
+        # AccuracyLifeTarget (the ninth element of every task)
+        self.selection = selection
+        self.evaluate_task = evaluate
         self.spec, self.specs, self.stop, self.progress = spec_arcmin, specs, stop, progress
         # in this process: candidates side by side, one thread each, for a run of one block (the
         # default 65536 samples) uses one core only; a lone candidate gets every thread. A
@@ -111,7 +132,7 @@ class _Runs:
                  + ((self.selection,) if self.selection is not None else ()) for c in todo]
         out: dict[tuple[int, ...], Evaluation] = {}
         if tasks and not self.stop.is_set():
-            for i, ev in executor.map_unordered(evaluate_candidate, tasks, stop=self.stop):
+            for i, ev in executor.map_unordered(self.evaluate_task, tasks, stop=self.stop):
                 self.runs += 1
                 if ev.partial:
                     self.interrupted = True
@@ -188,17 +209,36 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
                          spec_te_arcsec: float | None = None, spec_life_h: float | None = None,
                          spec_rated_torque_nm: float | None = None, samples: int = DEFAULT_MC_SAMPLES,
                          seed: int = 0, executor=None, workers: int | None = None, max_evaluations: int = 200,
-                         progress: Callable[[int], None] | None = None, selection=None) -> AllocationResult:
+                         progress: Callable[[int], None] | None = None, selection=None,
+                         accuracy_life=None) -> AllocationResult:
     """Allocation under a Monte-Carlo model (module docstring): common random numbers for every
     candidate, local search from the linear optimum, verification on an independent stream.
     ``selection`` (analysis.selection.classes.Selection): every candidate's units assembled with it
-    (the grades-and-classes allocation, allocation.classes)."""
+    (the grades-and-classes allocation, allocation.classes). ``accuracy_life``
+    (analysis.service_life.accuracy_yield.AccuracyLifeTarget; the elastic model, no other spec): the
+    yield is the share of units whose lost motion stays within ``spec_arcmin`` for the target's hours of
+    its duty cycle, each unit with its own wear (docs/service-life.md)."""
     started = time.perf_counter()
     check_targets(spec_arcmin, yield_target, spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec, spec_life_h,
                   spec_rated_torque_nm)
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 1000 <= samples <= 10**7:
-        raise InputError("samples", samples, "allowed: a whole number of samples per candidate, 1000 to 1e7 "
+    least = 1000 if accuracy_life is None else 100  # a unit's accuracy life costs ~1000 units' lost motion
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not least <= samples <= 10**7:
+        raise InputError("samples", samples, f"allowed: a whole number of samples per candidate, {least} to 1e7 "
                                              "(a search evaluates up to 200 candidates)")
+    evaluate = evaluate_candidate
+    if accuracy_life is not None:
+        accuracy_life.check()
+        if model != "elastic":
+            raise InputError("model", model, "the accuracy life comes from the elastic model's wear; allowed: elastic")
+        others = extra_specs(spec_rigidity_nm_per_arcmin, spec_preload_um, spec_te_arcsec, spec_life_h,
+                             spec_rated_torque_nm)
+        if others:
+            name = SPEC_PARAMETERS[next(iter(others))]
+            raise InputError(name, others[next(iter(others))], "not allowed with spec_accuracy_life_h (one spec: the "
+                                                               "lost motion over the hours)")
+        if selection is not None:
+            raise InputError("spec_accuracy_life_h", accuracy_life.hours, "not allowed with selective assembly")
+        evaluate, selection = evaluate_accuracy_life, accuracy_life
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("seed", seed, "allowed: an integer >= 0")
     ch = grade_choices(problem)
@@ -219,7 +259,7 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
     uniform = uniform_grades(ch)
     with stop_requested() as stop:
         runs = _Runs(ch, model, int(samples), int(seed), float(spec_arcmin), specs, executor, workers, stop, progress,
-                     selection)
+                     selection, evaluate)
         # the linear optimum and every uniform grade (the baseline) first; the search starts from the
         # cheapest of them that is feasible, else from the linear optimum (or the finest grades)
         first_batch = ([lin.grades] if lin.grades is not None else []) + [c for _, c in uniform]
@@ -268,8 +308,8 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         raise InputError("yield_target", yield_target, f"no design confirmed under the {model} model ({what}); "
                                                        f"allowed: a lower yield, a larger spec, or more samples (-n)")
     ev = runs.cache[chosen]
-    label = (f"grades allocated by rvbacklash: P({output} <= {spec_arcmin:g} arcmin"
-             + specs_text(specs or {}) + f") >= {yield_target:g}, {model} model")
+    what = f"{output} <= {spec_arcmin:g} arcmin" if accuracy_life is None else accuracy_life.text()
+    label = f"grades allocated by rvbacklash: P({what}" + specs_text(specs or {}) + f") >= {yield_target:g}, {model} model"
     design = ch.design(chosen, design_description(problem, label))
     points = [FrontPoint(ch.cost(c), e.yield_, named_grades(ch, c), "candidate", None, c == chosen)
               for c, e in runs.cache.items()]
@@ -288,7 +328,7 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         before = before_ev.yield_ if before_ev is not None else None
     cost_before = sum(c.current_cost for c in ch.groups) if all(c.current_cost is not None for c in ch.groups) \
         else None
-    constraint = f"P({output} <= {spec_arcmin:g} arcmin" + specs_text(specs or {}) + f") >= {yield_target:g}"
+    constraint = f"P({what}" + specs_text(specs or {}) + f") >= {yield_target:g}"
     binding = binding_constraint(constraint, ev.yield_, yield_target, ch, chosen)
     if specs and ev.yields:
         worst = min(ev.yields.items(), key=lambda kv: kv[1].ci95_low)
@@ -307,4 +347,6 @@ def allocate_monte_carlo(problem: Problem, *, model: str, spec_arcmin: float, yi
         saving_fraction=saving / base.cost if saving is not None and base.cost else None,
         front=pareto_front(points), uniform=uni_points, samples=int(samples), seed=int(seed), evaluations=runs.runs,
         verification=verification, elapsed_s=time.perf_counter() - started, partial=partial, notes=tuple(notes),
-        spec_life_h=spec_life_h, spec_rated_torque_nm=spec_rated_torque_nm, design=design)
+        spec_life_h=spec_life_h, spec_rated_torque_nm=spec_rated_torque_nm, design=design,
+        spec_accuracy_life_h=None if accuracy_life is None else float(accuracy_life.hours),
+        duty_cycle=None if accuracy_life is None else accuracy_life.cycle.source)

@@ -60,26 +60,23 @@ def step_designs(problem: Problem, trajectory: Trajectory, model: ElasticModel) 
     return designs
 
 
-def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples: int, seed: int,
-                    spec_lost_motion_arcmin: float, model: ElasticModel | None = None, own_wear: bool = True,
-                    progress: Callable[[int], None] | None = None) -> ProductionLife:
-    """The ProductionLife of ``samples`` units of the elastic model (seed ``seed``) along the
-    nominal trajectory, each with its own wear (``own_wear``) or the nominal unit's (module
-    docstring); ``hours``: the hours to report (times of the trajectory); ``progress`` receives the
-    units done (each unit counts once all its times are read)."""
+def units_lost_motion(problem: Problem, trajectory: Trajectory, *, samples: int, seed: int,
+                      model: ElasticModel | None = None, own_wear: bool = True, stream: tuple[int, ...] = (1,),
+                      progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, int, bool]:
+    """(lost motion (T, units done) [arcmin] of ``samples`` units of the elastic model (seed ``seed``,
+    ``stream``: the spawn key of their draws) at every time of the nominal ``trajectory``, units done,
+    partial): each unit with its own wear (``own_wear``) or the nominal unit's (module docstring);
+    ``progress`` receives the units done (each unit counts once all its times are read)."""
     if not (isinstance(samples, int) and 1 <= samples <= MAX_UNITS):
         raise InputError("samples", samples, f"allowed: an integer from 1 to {MAX_UNITS:,}")
-    if not (math.isfinite(spec_lost_motion_arcmin) and spec_lost_motion_arcmin > 0.0):
-        raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0")
     model = model or elastic_model(problem)
     designs = step_designs(problem, trajectory, model)
     nominal = NominalAtAngles(problem) if own_wear else None
-    times = np.array(trajectory.hours)
-    lm = np.empty((times.size, samples))
+    lm = np.empty((len(trajectory.hours), samples))
     done = 0
     partial = False
     with stop_requested() as stop:
-        units = sample_units(problem, seed, samples)
+        units = sample_units(problem, seed, samples, stream)
         for start in range(0, samples, CHUNK):
             if stop.is_set():
                 partial = True
@@ -93,7 +90,23 @@ def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples:
             mark_progress()
             if progress is not None:
                 progress(done)
-    lm = lm[:, :done]
+    return lm[:, :done], done, partial
+
+
+def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples: int, seed: int,
+                    spec_lost_motion_arcmin: float, model: ElasticModel | None = None, own_wear: bool = True,
+                    progress: Callable[[int], None] | None = None) -> ProductionLife:
+    """The ProductionLife of ``samples`` units of the elastic model (seed ``seed``) along the
+    nominal trajectory, each with its own wear (``own_wear``) or the nominal unit's (module
+    docstring); ``hours``: the hours to report (times of the trajectory); ``progress`` receives the
+    units done (each unit counts once all its times are read)."""
+    if not (isinstance(samples, int) and 1 <= samples <= MAX_UNITS):
+        raise InputError("samples", samples, f"allowed: an integer from 1 to {MAX_UNITS:,}")
+    if not (math.isfinite(spec_lost_motion_arcmin) and spec_lost_motion_arcmin > 0.0):
+        raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0")
+    times = np.array(trajectory.hours)
+    lm, done, partial = units_lost_motion(problem, trajectory, samples=samples, seed=seed, model=model,
+                                          own_wear=own_wear, progress=progress)
     spec = float(spec_lost_motion_arcmin)
     life = accuracy_life_h(times, lm, spec)
     n = max(done, 1)
@@ -107,4 +120,4 @@ def production_life(problem: Problem, trajectory: Trajectory, hours, *, samples:
     return ProductionLife(done, int(seed), "own" if own_wear else "nominal", spec, tuple(float(h) for h in hours), yields,
                           tuple(grid_q[k] for k in index), life_q, int((lm[0] > spec).sum()) if done else 0,
                           int((lm[-1] <= spec).sum()) if done else 0, tuple(float(t) for t in times), grid_yield,
-                          grid_q, partial)
+                          grid_q, partial, Proportion.sampled(int(np.isinf(life).sum()), done) if done else None)

@@ -76,6 +76,9 @@ class ProductionLife(Result):
     grid_yield: tuple[float, ...] = field(default=(), metadata={EXPORT: False})
     grid_lost_motion_arcmin: tuple[tuple[float, float, float], ...] = field(default=(), metadata={EXPORT: False})
     partial: bool = False
+    # the units whose lost motion stays within the spec at every time of the trajectory to the last hour
+    # (their accuracy life reaches it), 95 % Wilson interval: what `allocate --spec-accuracy-life-h` asks for
+    accuracy_life_yield: Proportion | None = None
 
     def rows(self) -> list[dict]:
         return [{"hours": h, "yield": p.fraction, "yield_ci95_low": p.ci95_low, "yield_ci95_high": p.ci95_high,
