@@ -37,6 +37,7 @@ from rvbacklash.errors import InputError
 from rvbacklash.interrupt import stop_on
 from rvbacklash.report.files import render_csv, render_json
 
+LIFE_HOURS = (0, 500, 1000, 2000, 4000, 6000)  # the service-life card's hours unless the request gives its own
 MAX_POSITIONS = 4096  # of a TE curve in the workbench: ~1 s of one thread (65 536: ~15 s, not cancellable)
 
 
@@ -249,6 +250,42 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
 
         return Response(await run(body, compute, pool="capacity"), media_type="application/json")
 
+    @endpoint({"duty_cycle", "hours", "samples", "seed", "spec_lost_motion_arcmin"})
+    async def service_life(body: dict) -> Response:
+        """The service-life card (docs/workbench.md): the edited design's precision over the hours of a
+        packaged duty cycle (``duty_cycle``, default robot-joint): ``rvbacklash service-life --json`` for
+        the same hours, units, seed and lost-motion spec, cached by the design's text."""
+        cycle = body.get("duty_cycle", "robot-joint")
+        if not isinstance(cycle, str) or not cycle or len(cycle) > 100 or "/" in cycle or "\\" in cycle:
+            raise InputError("duty_cycle", cycle, "allowed: the name of a packaged duty cycle (robot-joint)")
+        hours = body.get("hours", list(LIFE_HOURS))
+        if not isinstance(hours, list) or not 1 <= len(hours) <= 24 or \
+                any(isinstance(h, bool) or not isinstance(h, (int, float)) for h in hours):
+            raise InputError("hours", hours, "allowed: a list of 1 to 24 numbers of hours, e.g. [0, 1000, 6000]")
+        n = samples(body, "service-life", "elastic", 500, 0)
+        seed = whole(body, "seed", 0, 0, 2**63 - 1)
+        spec = number_or_none(body, "spec_lost_motion_arcmin")
+        spec = 1.5 if spec is None else spec
+
+        def compute(job: Job) -> str:
+            item = design_of(body)
+            key = json.dumps(["service-life", item.text, cycle, hours, n, seed, spec])
+            cached = results.get(key)
+            if cached is not None:
+                return cached
+
+            def progress(stage: str, share: float) -> None:
+                job.progress(int(500 * share) + (500 if stage == "units" else 0) if n else int(1000 * share))
+
+            result = api.service_life(item.problem, duty_cycle=cycle, hours=hours, samples=n, seed=seed,
+                                      spec_lost_motion_arcmin=spec, progress=progress)
+            text = render_json(result.to_dict())
+            if not result.partial:
+                results.put(key, text)
+            return text
+
+        return Response(await run(body, compute, pool="capacity", total=1000), media_type="application/json")
+
     @endpoint({"samples", "seed"})
     async def elastic_section(body: dict) -> Response:
         n = samples(body, "elastic-section", "elastic", 2000, 20)
@@ -348,7 +385,7 @@ def create_app(initial_design: str = "rv80e", initial_origin: str | None = None,
         return FileResponse(plotly_js(), media_type="text/javascript")
 
     posts = {"design": design, "simulate": simulate, "hysteresis": hysteresis, "elastic-section": elastic_section,
-             "capacity": capacity, "efficiency": efficiency, "selection": selection,
+             "capacity": capacity, "efficiency": efficiency, "service-life": service_life, "selection": selection,
              "transmission-error": transmission_error, "sensitivity": sensitivity, "allocate": allocate,
              "report": report, "cancel": cancel}
     routes = [Route("/", index), Route("/api/initial", initial), Route("/api/status", status),

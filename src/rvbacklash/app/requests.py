@@ -26,6 +26,7 @@ SAMPLE_CAPS = {
     "sensitivity": {"linear": 1 << 20, "contact": 1 << 19, "elastic": 1 << 16, "transmission": 1 << 13},
     "allocate": {"contact": 1 << 16, "elastic": 10_000, "transmission": 2000},
     "elastic-section": {"elastic": 10_000},  # one draw and evaluation, then four loops: not interruptible, ~0.5 CPU-s
+    "service-life": {"elastic": 10_000},  # each unit worn step by step: 10 000 units to 6000 h ~15 CPU-s
 }
 SAMPLE_CAPS["report"] = SAMPLE_CAPS["simulate"]
 MAX_SAMPLES = max(SAMPLE_CAPS["simulate"].values())

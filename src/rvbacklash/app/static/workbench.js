@@ -445,6 +445,16 @@ async function secondary(id) {
       document.body.dataset.efficiencyShown = String(id);
     }).then(() => { if (id === state.seq && $("#efficiency-error").textContent) $("#efficiency-status").textContent = ""; });
   }
+  // the service-life card: designs with [elastic] (the packaged robot-joint cycle; the page's lost-motion spec)
+  $("#life-section").hidden = m !== "elastic";
+  if (m === "elastic") {
+    $("#life-status").textContent = "computing…";
+    figure("/api/service-life", lifeBody(), "#life-error", (data) => {
+      $("#life-status").textContent = "";
+      renderLife(data);
+      document.body.dataset.lifeShown = String(id);
+    }).then(() => { if (id === state.seq && $("#life-error").textContent) $("#life-status").textContent = ""; });
+  }
   if (m === "transmission") figure("/api/transmission-error", {}, "#te-error", renderTe);
   updateSelection(id);
 }
@@ -495,6 +505,68 @@ function renderSelection(s) {
       `(${(100 * s.pin_surplus_fraction).toFixed(1)} % left over), rollers ${s.roller_sets_per_unit.toFixed(2)} ` +
       `(${(100 * s.roller_surplus_fraction).toFixed(1)} % left over); ${s.samples_done} units, seed ${s.seed}; ` +
       `the command line: rvbacklash simulate --select` }));
+}
+
+// the service-life card: `rvbacklash service-life --duty-cycle robot-joint --hours 0,500,1000,2000,4000,6000
+// -n 500 --seed SEED --spec-lost-motion-arcmin SPEC --json` of the edited design (docs/service-life.md)
+const LIFE = { duty_cycle: "robot-joint", hours: [0, 500, 1000, 2000, 4000, 6000], samples: 500 };
+function lifeBody() {
+  const spec = specsForModel().lost_motion_arcmin;
+  return { ...LIFE, seed: numberOf($("#seed")), ...(typeof spec === "number" ? { spec_lost_motion_arcmin: spec } : {}) };
+}
+
+function renderLife(r) {
+  const p = r.production, last = r.points[r.points.length - 1], first = r.points[0];
+  const h = (x) => Math.round(x).toLocaleString("en");
+  const dl = el("dl");
+  const item = (text, key, value, shown, note) => {
+    dl.append(el("dt", { text }));
+    const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
+    if (note) dd.append(el("span", { class: "ci", text: " " + note }));
+    dl.append(dd);
+  };
+  const median = p.accuracy_life_quantiles_h["50%"];  // null: beyond the last hour
+  item(`nominal lost motion at ${h(first.hours)} h [arcmin]`, "life.points.0.lost_motion_arcmin", first.lost_motion_arcmin,
+       fmt(first.lost_motion_arcmin, 3));
+  item(`nominal lost motion at ${h(last.hours)} h [arcmin]`, `life.points.${r.points.length - 1}.lost_motion_arcmin`,
+       last.lost_motion_arcmin, fmt(last.lost_motion_arcmin, 3));
+  const yl = p.yield_at_hours[p.yield_at_hours.length - 1];
+  item(`yield at ${h(last.hours)} h`, `life.production.yield_at_hours.${p.yield_at_hours.length - 1}.fraction`, yl.fraction,
+       pct(yl.fraction), `[${pct(yl.ci95_low)}, ${pct(yl.ci95_high)}]`);
+  item(`in spec for all ${h(last.hours)} h`, "life.production.accuracy_life_yield.fraction", p.accuracy_life_yield.fraction,
+       pct(p.accuracy_life_yield.fraction), `(${p.out_at_start} of ${p.units} out at 0 h)`);
+  $("#life-card").replaceChildren(
+    el("h3", { text: `${r.design_name}: median accuracy life (lost motion ≤ ${p.spec_lost_motion_arcmin} arcmin)`,
+               title: "rvbacklash service-life (docs/service-life.md), the edited design" }),
+    el("div", {}, el("span", { class: "big", "data-key": "life.production.accuracy_life_quantiles_h.50%",
+                               "data-value": String(median), text: median === null ? `> ${h(last.hours)} h` : `${h(median)} h` }),
+       el("span", { class: "ci", text: ` of ${p.units} units, each with its own wear, seed ${p.seed}` })), dl,
+    el("div", { class: "note", text: `${r.steps} time steps, ${r.crank_angles} crank angles; the command line: rvbacklash ` +
+      `service-life --duty-cycle ${LIFE.duty_cycle} --hours ${LIFE.hours.join(",")} -n ${p.units} --seed ${p.seed}` }));
+  const q = (i) => p.lost_motion_quantiles_arcmin.map((v) => v[i]);
+  Plotly.react($("#fig-life-lm"), [
+    { type: "scatter", mode: "lines+markers", name: "nominal unit", x: r.trajectory.map((t) => t.hours),
+      y: r.trajectory.map((t) => t.lost_motion_arcmin), line: { color: "#1d2733", width: 2.5 } },
+    { type: "scatter", mode: "lines+markers", name: "95 % unit", x: p.hours, y: q(2), line: { color: "#e8590c", dash: "dash" } },
+    { type: "scatter", mode: "lines+markers", name: "median unit", x: p.hours, y: q(1), line: { color: "#2f9e44" } },
+    { type: "scatter", mode: "lines+markers", name: "5 % unit", x: p.hours, y: q(0), line: { color: "#1864ab", dash: "dash" } }],
+    { title: { text: `lost motion over the hours of ${LIFE.duty_cycle} (nominal unit and the run's 5 / 50 / 95 % units)`,
+               font: { size: 12 } }, height: 320, margin: { l: 60, r: 10, t: 36, b: 45 },
+      xaxis: { title: { text: "hours of the duty cycle [h]" } }, yaxis: { title: { text: "lost motion [arcmin]" } },
+      legend: { orientation: "h", y: -0.25, font: { size: 10 } },
+      shapes: [{ type: "line", xref: "paper", x0: 0, x1: 1, y0: p.spec_lost_motion_arcmin, y1: p.spec_lost_motion_arcmin,
+                 line: { color: "#c92a2a", dash: "dot", width: 1.5 } }],
+      annotations: [{ xref: "paper", x: 1, y: p.spec_lost_motion_arcmin, xanchor: "right", yanchor: "bottom", showarrow: false,
+                      text: `spec ${p.spec_lost_motion_arcmin} arcmin`, font: { size: 10, color: "#c92a2a" } }] },
+    { displayModeBar: false, responsive: true });
+  const ys = p.yield_at_hours;
+  Plotly.react($("#fig-life-yield"), [
+    { type: "scatter", mode: "lines+markers", name: "yield", x: p.hours, y: ys.map((y) => 100 * y.fraction),
+      error_y: { type: "data", symmetric: false, array: ys.map((y) => 100 * (y.ci95_high - y.fraction)),
+                 arrayminus: ys.map((y) => 100 * (y.fraction - y.ci95_low)) }, line: { color: "#2f9e44" } }],
+    { title: { text: `yield: lost motion ≤ ${p.spec_lost_motion_arcmin} arcmin (95 % intervals)`, font: { size: 12 } },
+      height: 320, margin: { l: 60, r: 10, t: 36, b: 45 }, xaxis: { title: { text: "hours of the duty cycle [h]" } },
+      yaxis: { title: { text: "yield [%]" }, range: [0, 100] } }, { displayModeBar: false, responsive: true });
 }
 
 // the efficiency card and the temperature card: `rvbacklash efficiency --json --duty-cycle robot-joint` of the
