@@ -511,7 +511,7 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     return dataclasses.replace(result, production=run)
 def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[float] = (0.0, 1000.0, 6000.0),
                  spec_lost_motion_arcmin: float = 1.5, samples: int = 2000, seed: int = 0, angles: int | None = None,
-                 step_fraction: float | None = None, unit_wear: str = "own",
+                 step_fraction: float | None = None, unit_wear: str = "own", sensitivity_samples: int = 0,
                  progress: Callable[[str, float], None] | None = None) -> "ServiceLifeResult":
     """Precision over the service life (docs/service-life.md): the nominal unit's lost motion, backlash
     and rigidity after ``hours`` of the duty cycle ``duty_cycle`` (a CSV or TOML file, or the name of an
@@ -520,8 +520,10 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
     versus hours and their accuracy life. ``angles``: crank angles per revolution of each step's loads
     (default 12); ``step_fraction``: the largest wear depth per time step as a share of the reference
     clearance (default 0.1); ``unit_wear``: "own" (each unit's wear from its discs' own load shares,
-    re-solved every step) or "nominal" (every unit wears as the nominal unit). The design needs
-    [elastic]; its [wear] table (optional) sets the wear coefficients and running-in (design/wear.py)."""
+    re-solved every step) or "nominal" (every unit wears as the nominal unit); ``sensitivity_samples`` N > 0
+    (a power of two): the first-order and total Sobol indices of the units' accuracy life at the last hour
+    (as ``accuracy_life_sensitivity``, along the same trajectory). The design needs [elastic]; its [wear]
+    table (optional) sets the wear coefficients and running-in (design/wear.py)."""
     from rvbacklash.analysis.service_life.datasheet import service_life as _service_life
     from rvbacklash.analysis.service_life.stepping import DEFAULT_ANGLES, DEFAULT_STEP_FRACTION
     from rvbacklash.design.duty_cycle import read_duty_cycle
@@ -531,7 +533,7 @@ def service_life(design: DesignLike, *, duty_cycle: str | Path, hours: Iterable[
                          spec_lost_motion_arcmin=spec_lost_motion_arcmin,
                          angles=DEFAULT_ANGLES if angles is None else angles,
                          step_fraction=DEFAULT_STEP_FRACTION if step_fraction is None else step_fraction,
-                         unit_wear=unit_wear, progress=progress)
+                         unit_wear=unit_wear, sensitivity_samples=sensitivity_samples, progress=progress)
 
 
 def calibrate_wear(design: DesignLike, *, duty_cycle: str | Path, measurements: Iterable[tuple[float, float]] = (),

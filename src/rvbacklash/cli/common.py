@@ -38,7 +38,7 @@ FLAGS = {
     "temperature_c": "--temperature", "output_speed_rpm": "--output-speed", "units": "--units",
     "spec_min_efficiency": "--spec-min-efficiency",
     "hours": "--hours", "step_fraction": "--step-fraction", "unit_wear": "--unit-wear",
-    "spec_accuracy_life_h": "--spec-accuracy-life-h",
+    "spec_accuracy_life_h": "--spec-accuracy-life-h", "sensitivity_samples": "--sensitivity-samples",
     "out": "--out", "scheduler": "--scheduler", "x_parameter": "--x", "y_parameter": "--y", "figure": "--figure",
 }
 

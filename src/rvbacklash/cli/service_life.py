@@ -77,9 +77,20 @@ def print_service_life(r, console) -> None:
         console.print(f"accuracy life (hours until lost motion > {prod.spec_lost_motion_arcmin:g} arcmin), quantiles "
                       f"of the run: {life}; {prod.out_at_start:,} units out at 0 h, {prod.still_in_spec:,} still in "
                       f"at {last:,.0f} h")
+        a = prod.accuracy_life_yield
+        if a is not None:
+            console.print(f"in spec at every time step to {last:,.0f} h (accuracy life reaching it): {a.fraction:.1%} "
+                          f"[{a.ci95_low:.1%} - {a.ci95_high:.1%}]")
         how = ("its own wear: the nominal unit's scaled by its discs' own load shares, re-solved every step"
                if prod.unit_wear == "own" else "the nominal unit's wear")
         console.print(f"[dim]each unit is read with {how} (docs/service-life.md)[/]")
+    if r.accuracy_life_sensitivity is not None:
+        from rvbacklash.report.allocation_tables import print_sensitivity
+
+        console.print(f"[bold]Which tolerance buys hours[/]: Sobol indices of the accuracy life (lost motion <= "
+                      f"{prod.spec_lost_motion_arcmin if prod is not None else ''} arcmin, censored at "
+                      f"{r.points[-1].hours:,.0f} h), each unit with its own wear")
+        print_sensitivity(r.accuracy_life_sensitivity, console)
 
 
 @app.command("service-life")
@@ -104,6 +115,11 @@ def service_life(
     unit_wear: str = typer.Option("own", "--unit-wear", help="The production run's units: 'own' (each unit's wear "
                                   "from its discs' own load shares, re-solved every step) or 'nominal' (every unit "
                                   "wears as the nominal unit)."),
+    sensitivity: bool = typer.Option(False, "--sensitivity", help="Add the Sobol indices of the accuracy life "
+                                     "(which tolerance buys hours; the life censored at the last hour, each unit with "
+                                     "its own wear): N (D + 2) units more, minutes."),
+    sensitivity_samples: str = typer.Option("256", "--sensitivity-samples", help="Units per sample set N of "
+                                            "--sensitivity, a power of two from 64 (as `sensitivity -n`)."),
     json_out: Optional[str] = json_option("the nominal unit's trajectory, wear rates, worn flank and the production "
                                           "run"),
     csv_out: Optional[str] = csv_option("one row per asked hour (nominal unit and production run)"),
@@ -126,16 +142,29 @@ def service_life(
     if n < 0:
         raise InputError("samples", samples, "allowed: 0 (the nominal unit only) or a number of units >= 1")
     wanted = _hours(hours)
+    sobol = 0
+    if not sensitivity and sensitivity_samples != "256":
+        raise InputError("--sensitivity-samples", sensitivity_samples, "allowed with --sensitivity only")
+    if sensitivity:
+        try:
+            sobol = parse_samples(sensitivity_samples)
+        except InputError as e:
+            raise e.renamed("--sensitivity-samples") from None
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
+    # the bar's share of each stage: the nominal stepping, the production run, the Sobol run's units
+    stages = {"nominal": 1.0, **({"units": 1.0} if n else {}), **({"sensitivity": 2.0} if sobol else {})}
+    starts, total = {}, 0.0
+    for name, weight in stages.items():
+        starts[name], total = total, total + weight
     with progress_bar(1000, "service life", "starting (the first run compiles its kernels, ~1 min, once)",
                       enabled=not quiet) as update:
         def progress(stage: str, share: float) -> None:
-            update(int(500 * share) + (500 if stage == "units" else 0) if n else int(1000 * share))
+            update(int(1000 * (starts[stage] + stages[stage] * min(share, 1.0)) / total))
 
         result = api.service_life(design, duty_cycle=duty_cycle, hours=wanted,
                                   spec_lost_motion_arcmin=spec_lost_motion_arcmin, samples=n, seed=seed,
                                   angles=angles, step_fraction=step_fraction, unit_wear=unit_wear,
-                                  progress=progress)
+                                  sensitivity_samples=sobol, progress=progress)
     data = result.to_dict()
     rows = _rows(result)
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),

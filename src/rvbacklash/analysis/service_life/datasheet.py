@@ -50,12 +50,27 @@ def _rates(rate: WearIncrement, geo) -> tuple[ContactWearRate, ...]:
 
 def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0, seed: int = 0,
                  spec_lost_motion_arcmin: float = 1.5, angles: int = DEFAULT_ANGLES,
-                 step_fraction: float = DEFAULT_STEP_FRACTION, unit_wear: str = "own",
+                 step_fraction: float = DEFAULT_STEP_FRACTION, unit_wear: str = "own", sensitivity_samples: int = 0,
                  progress: Callable[[str, float], None] | None = None) -> ServiceLifeResult:
     """The ServiceLifeResult of a design under a duty cycle at ``hours`` (module docstring);
     ``samples`` units of the production run (0: none), each with its own wear (``unit_wear`` "own") or
-    the nominal unit's ("nominal"; production.py). ``progress(stage, share)``."""
+    the nominal unit's ("nominal"; production.py). ``sensitivity_samples`` N > 0 (a power of two): the
+    Sobol indices of the units' accuracy life, censored at the last hour, along the same trajectory
+    (``sensitivity``; N (D + 2) units, seed ``seed``). ``progress(stage, share)``: stages "nominal",
+    "units", "sensitivity"."""
     targets = check_hours(hours)
+    if sensitivity_samples:
+        from rvbacklash.analysis.sensitivity_global import check_samples
+
+        try:
+            check_samples(sensitivity_samples)
+        except InputError as e:
+            raise e.renamed("sensitivity_samples") from None
+        if targets[-1] <= 0.0:
+            raise InputError("hours", list(hours), "the accuracy life's Sobol indices need a last hour > 0")
+        if unit_wear != "own":
+            raise InputError("unit_wear", unit_wear, "the accuracy life's Sobol indices read each unit's own wear; "
+                                                     "allowed with sensitivity: own")
     if not (isinstance(spec_lost_motion_arcmin, (int, float)) and math.isfinite(spec_lost_motion_arcmin)
             and spec_lost_motion_arcmin > 0.0):
         raise InputError("spec_lost_motion_arcmin", spec_lost_motion_arcmin, "allowed: a number > 0 [arcmin]")
@@ -79,6 +94,17 @@ def service_life(problem: Problem, cycle: DutyCycle, hours, *, samples: int = 0,
     inputs = {**w.model_dump(), "k_flank_mm3_per_nm": geo.k_flank, "k_seat_mm3_per_nm": geo.k_seat,
               "k_needle_mm3_per_nm": geo.k_needle, "reference_clearance_um": tr.reference_clearance_um}
     te = tuple(worn_ripple(problem, h, w, geo) for h, w in zip(tr.hours, tr.wear) if h in targets)
+    sobol = None
+    if sensitivity_samples and not tr.partial and not (production is not None and production.partial):
+        from rvbacklash.analysis.sensitivity_global import global_sensitivity
+        from rvbacklash.analysis.service_life.sensitivity import accuracy_life_streams
+
+        streams = accuracy_life_streams(problem, tr, spec_lost_motion_arcmin, model)
+        runs = sensitivity_samples * (sum(streams.random) + 2)
+        sobol = global_sensitivity(problem, model=streams, output="accuracy_life", samples=sensitivity_samples,
+                                   seed=seed, progress=(lambda k: progress("sensitivity", k / runs)) if progress
+                                   else None)
+    partial = tr.partial or (production is not None and production.partial) or (sobol is not None and sobol.partial)
     return ServiceLifeResult(problem.design.name, cycle.source, cycle.mean_speed_rpm, angles, step_fraction,
                              len(tr.hours) - 1, inputs, points, tr.points, _rates(tr.initial_rate, geo), profile,
-                             production, tr.partial or (production is not None and production.partial), te)
+                             production, partial, te, sobol)

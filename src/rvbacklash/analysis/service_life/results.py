@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from rvbacklash.analysis.sensitivity_global import SensitivityResult
 from rvbacklash.analysis.statistics import Proportion
 from rvbacklash.results import EXPORT, Result
 
@@ -115,6 +116,9 @@ class ServiceLifeResult(Result):
     production: ProductionLife | None
     partial: bool = False
     transmission_error: tuple[LifeRipple, ...] = ()  # the nominal unit's at the requested hours
+    # first-order and total Sobol indices of the units' accuracy life (censored at the last hour), asked with
+    # sensitivity_samples (`service-life --sensitivity`); None: not asked
+    accuracy_life_sensitivity: SensitivityResult | None = None
 
     def rows(self) -> list[dict]:
         return [p.to_dict() for p in self.points]
