@@ -300,6 +300,19 @@ function renderLoop(section) {
   $("#loop-shares").replaceChildren(...warnings, t);
 }
 
+// a card's list of figures: [the <dl>, item(text, key, value, shown, note)], each value a span whose data-key
+// is its path in the command line's JSON (the browser tests read them)
+function cardList() {
+  const dl = el("dl");
+  const item = (text, key, value, shown, note) => {
+    dl.append(el("dt", { text }));
+    const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
+    if (note) dd.append(el("span", { class: "ci", text: " " + note }));
+    dl.append(dd);
+  };
+  return [dl, item];
+}
+
 // the capacity card: the edited design's datasheet and its point of lost motion against life; every
 // what-if seen since the design was loaded stays on the figure (state.trade), the loaded design's first
 function whatIfLabel(edits) {
@@ -314,13 +327,7 @@ function renderCapacity(data, edits) {
   state.trade = state.trade.filter((q) => q.label !== label);
   state.trade.push({ label, lost_motion_arcmin: p.lost_motion_arcmin, reducer_life_h: p.reducer_life_h,
                      derived_rated_torque_nm: p.derived_rated_torque_nm });
-  const dl = el("dl");
-  const item = (text, key, value, shown, note) => {
-    dl.append(el("dt", { text }));
-    const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
-    if (note) dd.append(el("span", { class: "ci", text: " " + note }));
-    dl.append(dd);
-  };
+  const [dl, item] = cardList();
   const h = (x) => (x === null || x === undefined) ? "–" : Math.round(x).toLocaleString("en");
   const m = c.main_bearings;
   item("derived rated torque [N·m]", "capacity.derived_rated_torque_nm", c.derived_rated_torque_nm,
@@ -518,13 +525,7 @@ function lifeBody() {
 function renderLife(r) {
   const p = r.production, last = r.points[r.points.length - 1], first = r.points[0];
   const h = (x) => Math.round(x).toLocaleString("en");
-  const dl = el("dl");
-  const item = (text, key, value, shown, note) => {
-    dl.append(el("dt", { text }));
-    const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
-    if (note) dd.append(el("span", { class: "ci", text: " " + note }));
-    dl.append(dd);
-  };
+  const [dl, item] = cardList();
   const median = p.accuracy_life_quantiles_h["50%"];  // null: beyond the last hour
   item(`nominal lost motion at ${h(first.hours)} h [arcmin]`, "life.points.0.lost_motion_arcmin", first.lost_motion_arcmin,
        fmt(first.lost_motion_arcmin, 3));
@@ -572,16 +573,7 @@ function renderLife(r) {
 // the efficiency card and the temperature card: `rvbacklash efficiency --json --duty-cycle robot-joint` of the
 // edited design (docs/efficiency.md)
 function renderEfficiency(e) {
-  const list = () => {
-    const dl = el("dl");
-    const item = (text, key, value, shown, note) => {
-      dl.append(el("dt", { text }));
-      const dd = el("dd", {}, el("span", { "data-key": key, "data-value": String(value), text: shown }));
-      if (note) dd.append(el("span", { class: "ci", text: " " + note }));
-      dl.append(dd);
-    };
-    return [dl, item];
-  };
+  const list = cardList;
   const [dl, item] = list();
   const n0 = e.no_load_running_torque[0];
   const back = e.back_driving_torque_nm;
