@@ -40,10 +40,11 @@ def _accuracy_life_yield(design, **kw) -> dict:
 
 
 def test_allocate_on_the_accuracy_life_keeps_the_target_and_a_cheaper_neighbour_does_not(design, tmp_path):
-    best, out = tmp_path / "best.toml", tmp_path / "a.json"
+    best, out, svg = tmp_path / "best.toml", tmp_path / "a.json", tmp_path / "front.svg"
     p = run_cli("allocate", design, "--spec-accuracy-life-h", HOURS, "--spec-lost-motion-arcmin", SPEC, "--yield",
-                TARGET, *RUN, "--write-design", best, "--json", out)
+                TARGET, *RUN, "--write-design", best, "--json", out, "--plot", svg)
     assert p.returncode == 0, p.stderr
+    assert "<svg" in svg.read_text()[:2000]
     assert "accuracy life >= 1000 h of robot-joint.csv at lost motion <= 2 arcmin" in p.stdout
     data = json.loads(out.read_text())
     assert data["model"] == "elastic" and data["output"] == "accuracy_life"

@@ -40,7 +40,9 @@ def front_figure(result):
     ax.set_yscale("log")
     ax.invert_yaxis()
     ax.set_xlabel(f"cost [{result.unit}]")
-    ax.set_ylabel(f"out of spec, 1 - P({result.output} ≤ {result.spec_arcmin:g} arcmin)")
+    what = f"{result.output} ≤ {result.spec_arcmin:g} arcmin" if result.spec_accuracy_life_h is None else \
+        f"lost motion ≤ {result.spec_arcmin:g} arcmin for {result.spec_accuracy_life_h:g} h"
+    ax.set_ylabel(f"out of spec, 1 - P({what})")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, loc="lower right")
     ax.set_title(f"{result.design_name}: cost against yield ({result.model} model)", fontsize=10)
