@@ -393,8 +393,13 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
 # solved on the exact curve at the estimate's point (and at NEAR_OFFSETS about the best one: a narrow
 # feature of the solved curve sits near, not at, its estimate) and searched about the best
 # (ZOOM_LEVELS pattern-search levels): every figure is a point of the solved curve, never an
-# interpolated one. Not seen: a stage the exact solve finds preloaded (a pin facing a tooth tip) while
-# its linearised gaps are free, for less than a step (docs/transmission-error.md: one unit of 40).
+# interpolated one. The cubic is poor where a pin passes a tooth tip (the pin-centre curve's radius is
+# ~0.13 mm there: the gap bends within a step, tenths of a um off): a swing there may hide behind
+# interpolated gaps that show a free stage. Where a pin whose lever changes sign lies within its
+# interpolation error (gap_error_um, from the recorded gaps' fourth differences) of interference, the
+# swing's reach - the ends of the rotation the other pins leave - is an estimate too, and the steps
+# whose reach passes the sampled extremes are solved about the lever's zero (issue 36 item 8: unit 3
+# of seed 3 read 47.68 at 1024 positions against 48.70 arcsec at 4096; now 48.68).
 STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
 NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
@@ -503,23 +508,84 @@ def reference_at(ref, n, f):
             (1.0 - t) * ref.between_rad[1, n, s] + t * ref.between_rad[1, n2, s2])
 
 
+class StepEstimates(NamedTuple):
+    """What step_extremes estimates of each step n -> n + 1 of a recorded revolution, for each of the
+    four extremes (ccw max, ccw min, cw max, cw min: the largest of +TE_ccw, -TE_ccw, +TE_cw, -TE_cw),
+    (4, N) each: the largest interpolated value [rad] and where (the fraction of the step); the reach
+    of a swing the interpolation cannot rule out [rad] (-inf: none) and where."""
+
+    value: np.ndarray
+    at: np.ndarray
+    swing_value: np.ndarray
+    swing_at: np.ndarray
+
+
+def step_estimates(n: int) -> StepEstimates:
+    return StepEstimates(np.empty((4, n)), np.empty((4, n)), np.empty((4, n)), np.empty((4, n)))
+
+
 @njit(nogil=True, cache=True)
-def step_extremes(run, ref, azc_um, value, at):
-    """For each step n -> n + 1 of a revolution and each of the four extremes (ccw max, ccw min, cw
-    max, cw min: the largest of +TE_ccw, -TE_ccw, +TE_cw, -TE_cw) the largest value [rad] in the
-    step, interpolated (interpolated_flanks) on the unit's recorded FlankCurve ``run`` less the
-    error-free unit's there (``ref``: ReferenceFlanks, reference_at), into value (4, N), and where
-    (the fraction of the step) into at (4, N). Read at the interior points s / points of the step
-    (points: ref.between_rad.shape[2]) and on both sides of each point where an interfering pin's
-    lever changes sign (a swing of the balanced rotation, narrower than a step: the comment above)."""
+def gap_error_um(run, n, d, j):
+    """Estimated error [um] of the gap of pin j of disc d interpolated in step n -> n + 1 of the
+    recorded FlankCurve ``run`` (cubic_weights): the Lagrange remainder g4(xi) (f + 1) f (f - 1) (f - 2)
+    / 24 is at most 9/16 / 24 |h^4 g4| over the step (g4 the fourth derivative), h^4 g4 read from the
+    recorded gaps' fourth differences about n and about n + 1, the larger (Abramowitz & Stegun 25.2.13,
+    25.1.2). A pin passing a tooth tip bends its gap within a step (the pin-centre curve's radius is
+    ~0.13 mm there): the cubic then misses its lowest value by tenths of a um (issue 36 item 8: unit 3
+    of seed 3, -0.02 interpolated against -0.24 um)."""
+    rows = run.gap_um.shape[0]
+    g = run.gap_um
+    v0, v1, v2 = g[(n - 2) % rows, d, j], g[(n - 1) % rows, d, j], g[n, d, j]
+    v3, v4, v5 = g[(n + 1) % rows, d, j], g[(n + 2) % rows, d, j], g[(n + 3) % rows, d, j]
+    d4a = abs(v0 - 4.0 * v1 + 6.0 * v2 - 4.0 * v3 + v4)
+    d4b = abs(v1 - 4.0 * v2 + 6.0 * v3 - 4.0 * v4 + v5)
+    return 0.5625 / 24.0 * max(d4a, d4b)
+
+
+@njit(nogil=True, cache=True)
+def swing_reach(gaps, d0, j0, azc_um):
+    """(lo, hi) [rad]: the free interval that the pins other than pin j0 of disc d0 leave
+    (free_interval_bounds without it) on the PinGaps ``gaps``: where a stage that this pin alone
+    (without a lever) holds can swing to (balanced_rotation)."""
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = gap.shape
+    tol = 1e-9 * azc_um
+    lo, hi = -np.inf, np.inf
+    for d in range(discs):
+        for j in range(zp):
+            if d == d0 and j == j0:
+                continue
+            g, lv = gap[d, j], lever[d, j]
+            if lv > tol:
+                hi = min(hi, g / lv)
+            elif lv < -tol:
+                lo = max(lo, g / lv)
+    return lo, hi
+
+
+@njit(nogil=True, cache=True)
+def step_extremes(run, ref, azc_um, out):
+    """For each step n -> n + 1 of a revolution and each of the four extremes the largest value [rad]
+    in the step, interpolated (interpolated_flanks) on the unit's recorded FlankCurve ``run`` less the
+    error-free unit's there (``ref``: ReferenceFlanks, reference_at), and where (the fraction of the
+    step), into ``out`` (StepEstimates). Read at the interior points s / points of the step (points:
+    ref.between_rad.shape[2]) and on both sides of each point where a pin near contact has its lever
+    change sign (a swing of the balanced rotation, narrower than a step: the comment above). At such a
+    point a swing that the interpolation cannot rule out - the pin's gap there within its
+    interpolation error (gap_error_um) of interference - is given its reach, the ends of the rotation
+    the other pins leave (swing_reach), in out.swing_value: curve_extremes solves the steps whose
+    reach passes the sampled extremes on the exact curve."""
     rows, discs, zp = run.gap_um.shape
     points = ref.between_rad.shape[2]
     gaps = pin_gaps(discs, zp)
     fs = np.empty(points - 1 + 2 * discs * zp)
+    value, at, swing_value, swing_at = out.value, out.at, out.swing_value, out.swing_at
     for n in range(rows):
         for i in range(4):
             value[i, n] = -np.inf
             at[i, n] = 0.5
+            swing_value[i, n] = -np.inf
+            swing_at[i, n] = 0.5
         m = 0
         for s in range(1, points):
             fs[m] = s / points
@@ -533,6 +599,14 @@ def step_extremes(run, ref, azc_um, value, at):
                     fs[m] = max(f0 - SWING_SIDE, 1e-6)
                     fs[m + 1] = min(f0 + SWING_SIDE, 1.0 - 1e-6)
                     m += 2
+                    interpolated_flanks(run, n, f0, azc_um, gaps)
+                    if gaps.gap_um[d, j] - gap_error_um(run, n, d, j) < 0.0:  # it may interfere there: it may swing
+                        lo, hi = swing_reach(gaps, d, j, azc_um)
+                        c0, w0 = reference_at(ref, n, f0)
+                        for i, v in enumerate((hi - c0, c0 - lo, hi - w0, w0 - lo)):
+                            if math.isfinite(v) and v > swing_value[i, n]:
+                                swing_value[i, n] = v
+                                swing_at[i, n] = f0
         for k in range(m):
             f = fs[k]
             c, w = interpolated_flanks(run, n, f, azc_um, gaps)
@@ -569,8 +643,9 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
     goals = ((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))  # (flank, sign): maximise sign * TE of the flank
     best = np.array([float((sign * te[f]).max()) for f, sign in goals])
     where = np.array([float(np.argmax(sign * te[f])) for f, sign in goals])  # in steps
-    value, at = np.empty((4, n)), np.empty((4, n))
-    step_extremes(run, ref, g.pitch_radius_um, value, at)
+    est = step_estimates(n)
+    step_extremes(run, ref, g.pitch_radius_um, est)
+    value, at = est.value, est.at
     step = 2.0 * math.pi / n
 
     def solve(points: list[list[float]]) -> None:
@@ -593,6 +668,11 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
         points = [float(k + at[i, k]) for k in order if value[i, k] > best[i]]
         if points:  # about the best estimate too: the solved curve's narrow features sit near, not at, it
             points += [points[0] + o for o in NEAR_OFFSETS]
+        # the swings the interpolation cannot rule out whose reach passes it (step_extremes), at the
+        # interpolated lever's zero and about it (the solved lever's zero sits near, not at, it)
+        for k in np.flatnonzero(est.swing_value[i] > best[i]):
+            x = float(k + est.swing_at[i, k])
+            points += [x - SWING_SIDE, x + SWING_SIDE] + [x + o for o in NEAR_OFFSETS]
         first.append(points)
     solve(first)
     # a pattern search about each extreme found: a cusp or a swing's end to within a small part of a step
