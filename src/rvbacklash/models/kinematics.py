@@ -648,18 +648,20 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
     value, at = est.value, est.at
     step = 2.0 * math.pi / n
 
+    solved: dict[float, tuple[float, float]] = {}  # a point (in steps) -> TE of both flanks there
+
     def solve(points: list[list[float]]) -> None:
-        """Solve the curve at each goal's points (in steps) and keep what passes its best."""
-        flat = np.concatenate([np.asarray(p, float) for p in points])
-        if flat.size == 0:
-            return
-        w = flank_te(g, r, reference, kin, (flat % n) * step, exact)  # a revolution is closed
-        k = 0
+        """Solve the curve at each goal's points (in steps) not solved yet (the pattern search's next
+        level repeats half of its points when the best stays put) and keep what passes its best."""
+        new = sorted({x for p in points for x in p if x not in solved})
+        if new:
+            w = flank_te(g, r, reference, kin, (np.asarray(new) % n) * step, exact)  # a revolution is closed
+            solved.update(zip(new, zip(w[0].tolist(), w[1].tolist())))
         for i, (f, sign) in enumerate(goals):
             for x in points[i]:
-                if sign * w[f, k] > best[i]:
-                    best[i], where[i] = float(sign * w[f, k]), x
-                k += 1
+                v = sign * solved[x][f]
+                if v > best[i]:
+                    best[i], where[i] = v, x
 
     # the steps whose interpolated extreme passes the sampled one, best first
     first = []
