@@ -394,12 +394,14 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
 # feature of the solved curve sits near, not at, its estimate) and searched about the best
 # (ZOOM_LEVELS pattern-search levels): every figure is a point of the solved curve, never an
 # interpolated one. The cubic is poor where a pin passes a tooth tip (the pin-centre curve's radius is
-# ~0.13 mm there: the gap bends within a step, tenths of a um off): a swing there may hide behind
-# interpolated gaps that show a free stage. Where a pin whose lever changes sign lies within its
-# interpolation error (gap_error_um, from the recorded gaps' fourth differences) of interference, the
-# swing's reach - the ends of the rotation the other pins leave - is an estimate too, and the steps
-# whose reach passes the sampled extremes are solved about the lever's zero (issue 36 item 8: unit 3
-# of seed 3 read 47.68 at 1024 positions against 48.70 arcsec at 4096; now 48.68).
+# ~0.13 mm there: the gap bends within a step, the cubic misses its lowest value by up to ~0.3 um): a
+# swing there may hide behind interpolated gaps that show a free stage. So wherever a pin near contact
+# has its lever change sign (its gap there below SWING_GAP_UM, the screen that reads the swing points),
+# the swing's reach - the ends of the rotation the other pins leave - is an estimate too, and the
+# steps whose reach passes the sampled extremes are solved about the lever's zero (issue 36 item 8:
+# unit 3 of seed 3 read 47.68 at 1024 positions against 48.70 arcsec at 4096, now 48.68; 4 of the 6
+# units of seed 0 that read more than 1 % apart are within it; a fourth-difference estimate of the
+# cubic's error, tried first, underestimated it at the tips and left them).
 STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
 NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
@@ -525,24 +527,6 @@ def step_estimates(n: int) -> StepEstimates:
 
 
 @njit(nogil=True, cache=True)
-def gap_error_um(run, n, d, j):
-    """Estimated error [um] of the gap of pin j of disc d interpolated in step n -> n + 1 of the
-    recorded FlankCurve ``run`` (cubic_weights): the Lagrange remainder g4(xi) (f + 1) f (f - 1) (f - 2)
-    / 24 is at most 9/16 / 24 |h^4 g4| over the step (g4 the fourth derivative), h^4 g4 read from the
-    recorded gaps' fourth differences about n and about n + 1, the larger (Abramowitz & Stegun 25.2.13,
-    25.1.2). A pin passing a tooth tip bends its gap within a step (the pin-centre curve's radius is
-    ~0.13 mm there): the cubic then misses its lowest value by tenths of a um (issue 36 item 8: unit 3
-    of seed 3, -0.02 interpolated against -0.24 um)."""
-    rows = run.gap_um.shape[0]
-    g = run.gap_um
-    v0, v1, v2 = g[(n - 2) % rows, d, j], g[(n - 1) % rows, d, j], g[n, d, j]
-    v3, v4, v5 = g[(n + 1) % rows, d, j], g[(n + 2) % rows, d, j], g[(n + 3) % rows, d, j]
-    d4a = abs(v0 - 4.0 * v1 + 6.0 * v2 - 4.0 * v3 + v4)
-    d4b = abs(v1 - 4.0 * v2 + 6.0 * v3 - 4.0 * v4 + v5)
-    return 0.5625 / 24.0 * max(d4a, d4b)
-
-
-@njit(nogil=True, cache=True)
 def swing_reach(gaps, d0, j0, azc_um):
     """(lo, hi) [rad]: the free interval that the pins other than pin j0 of disc d0 leave
     (free_interval_bounds without it) on the PinGaps ``gaps``: where a stage that this pin alone
@@ -571,10 +555,10 @@ def step_extremes(run, ref, azc_um, out):
     step), into ``out`` (StepEstimates). Read at the interior points s / points of the step (points:
     ref.between_rad.shape[2]) and on both sides of each point where a pin near contact has its lever
     change sign (a swing of the balanced rotation, narrower than a step: the comment above). At such a
-    point a swing that the interpolation cannot rule out - the pin's gap there within its
-    interpolation error (gap_error_um) of interference - is given its reach, the ends of the rotation
-    the other pins leave (swing_reach), in out.swing_value: curve_extremes solves the steps whose
-    reach passes the sampled extremes on the exact curve."""
+    point a swing that the interpolation cannot rule out - the pin's interpolated gap there below
+    SWING_GAP_UM: the cubic misses a tooth tip's gap by tenths of a um - is given its reach, the ends
+    of the rotation the other pins leave (swing_reach), in out.swing_value: curve_extremes solves the
+    steps whose reach passes the sampled extremes on the exact curve."""
     rows, discs, zp = run.gap_um.shape
     points = ref.between_rad.shape[2]
     gaps = pin_gaps(discs, zp)
@@ -600,7 +584,7 @@ def step_extremes(run, ref, azc_um, out):
                     fs[m + 1] = min(f0 + SWING_SIDE, 1.0 - 1e-6)
                     m += 2
                     interpolated_flanks(run, n, f0, azc_um, gaps)
-                    if gaps.gap_um[d, j] - gap_error_um(run, n, d, j) < 0.0:  # it may interfere there: it may swing
+                    if gaps.gap_um[d, j] < SWING_GAP_UM:  # it may interfere there (the cubic misses a tip by tenths of a um)
                         lo, hi = swing_reach(gaps, d, j, azc_um)
                         c0, w0 = reference_at(ref, n, f0)
                         for i, v in enumerate((hi - c0, c0 - lo, hi - w0, w0 - lo)):
