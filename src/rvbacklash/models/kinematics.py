@@ -393,8 +393,15 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
 # solved on the exact curve at the estimate's point (and at NEAR_OFFSETS about the best one: a narrow
 # feature of the solved curve sits near, not at, its estimate) and searched about the best
 # (ZOOM_LEVELS pattern-search levels): every figure is a point of the solved curve, never an
-# interpolated one. Not seen: a stage the exact solve finds preloaded (a pin facing a tooth tip) while
-# its linearised gaps are free, for less than a step (docs/transmission-error.md: one unit of 40).
+# interpolated one. The cubic is poor where a pin passes a tooth tip (the pin-centre curve's radius is
+# ~0.13 mm there: the gap bends within a step, the cubic misses its lowest value by up to ~0.3 um): a
+# swing there may hide behind interpolated gaps that show a free stage. So wherever a pin near contact
+# has its lever change sign (its gap there below SWING_GAP_UM, the screen that reads the swing points),
+# the swing's reach - the ends of the rotation the other pins leave - is an estimate too, and the
+# steps whose reach passes the sampled extremes are solved about the lever's zero (issue 36 item 8:
+# unit 3 of seed 3 read 47.68 at 1024 positions against 48.70 arcsec at 4096, now 48.68; 4 of the 6
+# units of seed 0 that read more than 1 % apart are within it; a fourth-difference estimate of the
+# cubic's error, tried first, underestimated it at the tips and left them).
 STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
 NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
@@ -503,23 +510,66 @@ def reference_at(ref, n, f):
             (1.0 - t) * ref.between_rad[1, n, s] + t * ref.between_rad[1, n2, s2])
 
 
+class StepEstimates(NamedTuple):
+    """What step_extremes estimates of each step n -> n + 1 of a recorded revolution, for each of the
+    four extremes (ccw max, ccw min, cw max, cw min: the largest of +TE_ccw, -TE_ccw, +TE_cw, -TE_cw),
+    (4, N) each: the largest interpolated value [rad] and where (the fraction of the step); the reach
+    of a swing the interpolation cannot rule out [rad] (-inf: none) and where."""
+
+    value: np.ndarray
+    at: np.ndarray
+    swing_value: np.ndarray
+    swing_at: np.ndarray
+
+
+def step_estimates(n: int) -> StepEstimates:
+    return StepEstimates(np.empty((4, n)), np.empty((4, n)), np.empty((4, n)), np.empty((4, n)))
+
+
 @njit(nogil=True, cache=True)
-def step_extremes(run, ref, azc_um, value, at):
-    """For each step n -> n + 1 of a revolution and each of the four extremes (ccw max, ccw min, cw
-    max, cw min: the largest of +TE_ccw, -TE_ccw, +TE_cw, -TE_cw) the largest value [rad] in the
-    step, interpolated (interpolated_flanks) on the unit's recorded FlankCurve ``run`` less the
-    error-free unit's there (``ref``: ReferenceFlanks, reference_at), into value (4, N), and where
-    (the fraction of the step) into at (4, N). Read at the interior points s / points of the step
-    (points: ref.between_rad.shape[2]) and on both sides of each point where an interfering pin's
-    lever changes sign (a swing of the balanced rotation, narrower than a step: the comment above)."""
+def swing_reach(gaps, d0, j0, azc_um):
+    """(lo, hi) [rad]: the free interval that the pins other than pin j0 of disc d0 leave
+    (free_interval_bounds without it) on the PinGaps ``gaps``: where a stage that this pin alone
+    (without a lever) holds can swing to (balanced_rotation)."""
+    gap, lever = gaps.gap_um, gaps.lever_um_per_rad
+    discs, zp = gap.shape
+    tol = 1e-9 * azc_um
+    lo, hi = -np.inf, np.inf
+    for d in range(discs):
+        for j in range(zp):
+            if d == d0 and j == j0:
+                continue
+            g, lv = gap[d, j], lever[d, j]
+            if lv > tol:
+                hi = min(hi, g / lv)
+            elif lv < -tol:
+                lo = max(lo, g / lv)
+    return lo, hi
+
+
+@njit(nogil=True, cache=True)
+def step_extremes(run, ref, azc_um, out):
+    """For each step n -> n + 1 of a revolution and each of the four extremes the largest value [rad]
+    in the step, interpolated (interpolated_flanks) on the unit's recorded FlankCurve ``run`` less the
+    error-free unit's there (``ref``: ReferenceFlanks, reference_at), and where (the fraction of the
+    step), into ``out`` (StepEstimates). Read at the interior points s / points of the step (points:
+    ref.between_rad.shape[2]) and on both sides of each point where a pin near contact has its lever
+    change sign (a swing of the balanced rotation, narrower than a step: the comment above). At such a
+    point a swing that the interpolation cannot rule out - the pin's interpolated gap there below
+    SWING_GAP_UM: the cubic misses a tooth tip's gap by tenths of a um - is given its reach, the ends
+    of the rotation the other pins leave (swing_reach), in out.swing_value: curve_extremes solves the
+    steps whose reach passes the sampled extremes on the exact curve."""
     rows, discs, zp = run.gap_um.shape
     points = ref.between_rad.shape[2]
     gaps = pin_gaps(discs, zp)
     fs = np.empty(points - 1 + 2 * discs * zp)
+    value, at, swing_value, swing_at = out.value, out.at, out.swing_value, out.swing_at
     for n in range(rows):
         for i in range(4):
             value[i, n] = -np.inf
             at[i, n] = 0.5
+            swing_value[i, n] = -np.inf
+            swing_at[i, n] = 0.5
         m = 0
         for s in range(1, points):
             fs[m] = s / points
@@ -533,6 +583,14 @@ def step_extremes(run, ref, azc_um, value, at):
                     fs[m] = max(f0 - SWING_SIDE, 1e-6)
                     fs[m + 1] = min(f0 + SWING_SIDE, 1.0 - 1e-6)
                     m += 2
+                    interpolated_flanks(run, n, f0, azc_um, gaps)
+                    if gaps.gap_um[d, j] < SWING_GAP_UM:  # it may interfere there (the cubic misses a tip by tenths of a um)
+                        lo, hi = swing_reach(gaps, d, j, azc_um)
+                        c0, w0 = reference_at(ref, n, f0)
+                        for i, v in enumerate((hi - c0, c0 - lo, hi - w0, w0 - lo)):
+                            if math.isfinite(v) and v > swing_value[i, n]:
+                                swing_value[i, n] = v
+                                swing_at[i, n] = f0
         for k in range(m):
             f = fs[k]
             c, w = interpolated_flanks(run, n, f, azc_um, gaps)
@@ -569,22 +627,25 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
     goals = ((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))  # (flank, sign): maximise sign * TE of the flank
     best = np.array([float((sign * te[f]).max()) for f, sign in goals])
     where = np.array([float(np.argmax(sign * te[f])) for f, sign in goals])  # in steps
-    value, at = np.empty((4, n)), np.empty((4, n))
-    step_extremes(run, ref, g.pitch_radius_um, value, at)
+    est = step_estimates(n)
+    step_extremes(run, ref, g.pitch_radius_um, est)
+    value, at = est.value, est.at
     step = 2.0 * math.pi / n
 
+    solved: dict[float, tuple[float, float]] = {}  # a point (in steps) -> TE of both flanks there
+
     def solve(points: list[list[float]]) -> None:
-        """Solve the curve at each goal's points (in steps) and keep what passes its best."""
-        flat = np.concatenate([np.asarray(p, float) for p in points])
-        if flat.size == 0:
-            return
-        w = flank_te(g, r, reference, kin, (flat % n) * step, exact)  # a revolution is closed
-        k = 0
+        """Solve the curve at each goal's points (in steps) not solved yet (the pattern search's next
+        level repeats half of its points when the best stays put) and keep what passes its best."""
+        new = sorted({x for p in points for x in p if x not in solved})
+        if new:
+            w = flank_te(g, r, reference, kin, (np.asarray(new) % n) * step, exact)  # a revolution is closed
+            solved.update(zip(new, zip(w[0].tolist(), w[1].tolist())))
         for i, (f, sign) in enumerate(goals):
             for x in points[i]:
-                if sign * w[f, k] > best[i]:
-                    best[i], where[i] = float(sign * w[f, k]), x
-                k += 1
+                v = sign * solved[x][f]
+                if v > best[i]:
+                    best[i], where[i] = v, x
 
     # the steps whose interpolated extreme passes the sampled one, best first
     first = []
@@ -593,6 +654,11 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
         points = [float(k + at[i, k]) for k in order if value[i, k] > best[i]]
         if points:  # about the best estimate too: the solved curve's narrow features sit near, not at, it
             points += [points[0] + o for o in NEAR_OFFSETS]
+        # the swings the interpolation cannot rule out whose reach passes it (step_extremes), at the
+        # interpolated lever's zero and about it (the solved lever's zero sits near, not at, it)
+        for k in np.flatnonzero(est.swing_value[i] > best[i]):
+            x = float(k + est.swing_at[i, k])
+            points += [x - SWING_SIDE, x + SWING_SIDE] + [x + o for o in NEAR_OFFSETS]
         first.append(points)
     solve(first)
     # a pattern search about each extreme found: a cusp or a swing's end to within a small part of a step
