@@ -167,10 +167,12 @@ def model_reports(report, tmp_path_factory):
 
     d = tmp_path_factory.mktemp("models")
     pages = {"linear": report}
-    for model, kwargs in (("contact", {"spec_arcmin": 1.0}),
-                          ("elastic", {"specs": {"lost_motion": 1.0, "rigidity": 1000.0}}),
-                          ("transmission", {"spec_te_arcsec": 60.0, "spec_arcmin": 3.0})):
-        data = rb.make_report("rv80e", samples=5000, seed=1, model=model, **kwargs)
+    # the transmission model at 1000 units (~3 s of CPU less than 5000): what is checked of it is
+    # which sections, cards and labels its page has and that its 5 % unit's TE is below its 95 %'s
+    for model, kwargs, samples in (("contact", {"spec_arcmin": 1.0}, 5000),
+                                   ("elastic", {"specs": {"lost_motion": 1.0, "rigidity": 1000.0}}, 5000),
+                                   ("transmission", {"spec_te_arcsec": 60.0, "spec_arcmin": 3.0}, 1000)):
+        data = rb.make_report("rv80e", samples=samples, seed=1, model=model, **kwargs)
         html = d / f"{model}.html"
         html.write_text(rb.render_html(data))
         pages[model] = (html, json.loads(render_json(data.to_dict())))
