@@ -150,3 +150,19 @@ def test_ctrl_c_while_the_kernels_load_exits_130_at_once(tmp_path, delay, fresh_
     env = {**os.environ, **({"NUMBA_CACHE_DIR": str(tmp_path / "numba")} if fresh_cache else {})}
     p = _ctrl_c_after(delay, ["simulate", "rv80e", "--model", "transmission", "-n", "1e7", "--json", out], env)
     _assert_ended_as_a_ctrl_c_should(p, out)
+
+
+def test_a_ctrl_c_that_leaked_the_import_lock_at_start_up_exits_130(tmp_path):
+    """Regression: a press in Python's own start can leak the global import lock (between
+    importlib's ``_imp.acquire_lock()`` and its ``try``) while Python swallows the
+    KeyboardInterrupt, and the command ran on until a worker thread waited for the lock forever (a
+    contact run hung 600 s in this file's sweep). The leak is made by hand here: the command ends
+    as a Ctrl-C before any work does, exit 130, nothing written."""
+    out = tmp_path / "out.json"
+    code = ("import _imp, sys; _imp.acquire_lock(); "
+            f"sys.argv = ['rvbacklash', 'simulate', 'rv80e', '--model', 'contact', '-n', '2000', '--json', {str(out)!r}]; "
+            "from rvbacklash.cli import main; main()")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert p.returncode == 130, (p.returncode, p.stderr[-2000:])
+    assert p.stderr.strip().splitlines()[-1] == "interrupted: nothing was written"
+    assert not out.exists()

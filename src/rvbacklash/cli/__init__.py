@@ -23,6 +23,21 @@ def _exit_130(signum, frame) -> None:
         os._exit(130)
 
 
+def _exit_if_the_import_lock_leaked() -> None:
+    """A Ctrl-C in Python's own start, before any handler of ours, can land between importlib's
+    ``_imp.acquire_lock()`` and its ``try`` and leak the global import lock; Python's start-up then
+    swallows the KeyboardInterrupt ('Failed checking if argv[0] is an import path entry') and the
+    command runs on, until its first worker thread imports something and waits for the lock
+    forever (seen: a contact run hung with its threads in ``_PyImport_AcquireLock``). Here, with no
+    other thread running and no import under way in this one, a held lock can only be that leak:
+    the press asked to stop, so stop as the command line would, nothing written, exit 130."""
+    import _imp
+    import _thread
+
+    if _imp.lock_held() and _thread._count() == 0:
+        _exit_130(None, None)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the ``rvbacklash`` command: ``argv`` None reads ``sys.argv`` (the process is
     the command), a list runs those arguments in this process (tests). The Ctrl-C handling of the
@@ -34,6 +49,7 @@ def main(argv: list[str] | None = None) -> None:
         import _signal
 
         _signal.signal(_signal.SIGINT, _exit_130)
+        _exit_if_the_import_lock_leaked()
     from rvbacklash.interrupt import exit_on_sigint
 
     code: object = 0
