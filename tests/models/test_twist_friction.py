@@ -18,13 +18,13 @@ from rvbacklash.problem import prepare
 
 from helpers import example_with
 
-CONTACTS = ("friction_torque_nm = 2.0", 'friction_model = "contacts"')
+MESH = "mesh_stiffness_n_per_mm_um = 20.0"
+CONTACTS = (MESH, MESH + '\nfriction_model = "contacts"')
 
 
 def contacts_design(*lubrication: str, stated: str | None = None):
     lines = "\n".join(lubrication)
-    replacements = [CONTACTS if stated is None else ("friction_torque_nm = 2.0",
-                                                      f'friction_model = "contacts"\nfriction_torque_nm = {stated}')]
+    replacements = [CONTACTS if stated is None else (MESH, MESH + f'\nfriction_model = "contacts"\nfriction_torque_nm = {stated}')]
     if lines:
         replacements.append(("[capacity]", f"[lubrication]\n{lines}\n\n[capacity]"))
     return example_with("rv80e", *replacements)

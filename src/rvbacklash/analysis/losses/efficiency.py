@@ -288,5 +288,5 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
                             rated.mesh_friction_coefficient, _elements(rated), tuple(grid), by_temp, no_load, start,
                             float(start_loaded.efficiency), back, t0, lam,
                             lm.model.chain.friction_nm, precision, assumptions, thermal, None, rated,
-                            problem.design.elastic.friction_model, lm.model.chain.friction_fraction,
+                            problem.design.elastic.loop_friction_model, lm.model.chain.friction_fraction,
                             twist.constant_nm, twist.load_fraction, twist.torque_at_nm(t_r))
