@@ -232,19 +232,31 @@ def contact(design: DesignLike, *, crank_angle_deg: float | None = None, measure
 
 
 def transmission_error(design: DesignLike, *, measured=None, unit: int | None = None, positions: int | None = None,
-                       load_direction: str = "ccw", shares: bool = True):
+                       load_direction: str = "ccw", shares: bool = True, temperature_c: float | None = None):
     """Transmission error and rigid lost motion of one unit over a full output revolution
     (docs/transmission-error.md): the nominal design, or unit ``unit`` (0-based, default 0) of
     ``measured`` (a UNIT.toml path, a MeasuredUnit or a list of them), from its crank angle.
     ``positions`` per revolution (default 1024), ``load_direction`` the flank of the headline
-    figures (ccw | cw), ``shares`` the TE with each error group switched off."""
+    figures (ccw | cw), ``shares`` the TE with each error group switched off; ``temperature_c``: the
+    reducer's temperature (oil and parts alike, as ``efficiency``'s) [degC]: the unit with its parts'
+    differential expansion from [thermal] (docs/efficiency.md; None: the reference temperature)."""
     from rvbacklash.analysis.contact import unit_realization
     from rvbacklash.analysis.transmission import DEFAULT_POSITIONS, perfect_unit
-    from rvbacklash.analysis.transmission import transmission_error as _te
+    from rvbacklash.analysis.transmission import transmission_error as _plain_te
     from rvbacklash.design.measured import MeasuredUnit, load_units
 
     problem = prepare(design)
     n = DEFAULT_POSITIONS if positions is None else positions
+    if temperature_c is not None:
+        from rvbacklash.analysis.losses.thermal import check_temperature, clearance_change, transmission_at_temperature
+
+        change = clearance_change(problem, problem.design.thermal, check_temperature("temperature_c", temperature_c))
+
+        def _te(problem, r, label, n, load_direction, shares, other_stages_arcmin=None):
+            return transmission_at_temperature(problem, r, change, n, load_direction, shares, label,
+                                               other_stages_arcmin)
+    else:
+        _te = _plain_te
     if measured is None:
         if unit is not None:
             raise InputError("unit", unit, "allowed only with measured units")

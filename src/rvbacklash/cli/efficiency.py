@@ -67,10 +67,10 @@ def print_efficiency(r, console) -> None:
                   f"{r.contacts_loop_friction_at_rated_nm:.2f} N m at {r.rated_torque_nm:g} N m (the hysteresis loop "
                   f"uses {r.loop_friction_model}: {r.stated_friction_torque_nm:.3g} N m + "
                   f"{r.loop_friction_load_fraction:.4g} |T|)")
-    console.print("lost motion / backlash / rigidity of the nominal unit by temperature (the parts' expansion): "
+    console.print("lost motion / backlash / rigidity / TE of the nominal unit by temperature (the parts' expansion): "
                   + ", ".join(
         f"{p.temperature_c:g} degC {p.lost_motion_arcmin:.3f} / {p.backlash_arcmin:.3f} arcmin / "
-        f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin"
+        f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin / {p.te_peak_to_peak_arcsec:.2f} arcsec"
         for p in r.precision_by_temperature))
     run = r.production
     if run is not None:
@@ -104,8 +104,11 @@ def print_efficiency(r, console) -> None:
                              f"{p.clearance.equidistance_modification_um:+.3f} um, pin holes "
                              f"{p.clearance.pin_hole_clearance_um:+.2f} um, crank bearings "
                              f"{p.clearance.crank_bearing_clearance_um:+.2f} um, support bearings "
-                             f"{p.clearance.support_bearing_clearance_um:+.2f} um; rigidity "
-                             f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin"))
+                             f"{p.clearance.support_bearing_clearance_um:+.2f} um, crank circle "
+                             f"{p.clearance.crank_circle_um:+.2f} um, centre distance "
+                             f"{p.clearance.centre_distance_um:+.2f} um; rigidity "
+                             f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin, TE "
+                             f"{p.te_peak_to_peak_arcsec:.2f} arcsec"))
         console.print(u)
 
 
@@ -117,8 +120,10 @@ def efficiency(
                                               "docs/capacity.md): its steady case temperature, time constant, "
                                               "allowable duty at the case limit, lost motion and backlash there.",
                                               metavar="FILE"),
-    temperature: Optional[float] = typer.Option(None, "--temperature", help="The oil's temperature of the figures "
-                                                "[degC] (default: the design's [lubrication] temperature_c, 40)."),
+    temperature: Optional[float] = typer.Option(None, "--temperature", help="The reducer's temperature (oil and parts "
+                                                "alike) [degC] of the figures, and the nominal unit's lost motion, "
+                                                "backlash, rigidity and TE there (the parts' expansion, [thermal]); "
+                                                "default: the design's [lubrication] temperature_c, 40."),
     output_speed: Optional[float] = typer.Option(None, "--output-speed", help="The rated point's output speed [r/min] "
                                                  "(default: [capacity] rated_output_speed_rpm)."),
     angles: Optional[int] = typer.Option(None, "--angles", help="Crank angles per revolution (default 12)."),
