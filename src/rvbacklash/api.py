@@ -482,7 +482,7 @@ def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles
 
 def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
                temperature_c: float | None = None, output_speed_rpm: float | None = None, samples: int = 0,
-               seed: int = 0, spec_min_efficiency: float | None = None,
+               seed: int = 0, spec_min_efficiency: float | None = None, unit_map: bool = False,
                progress: Callable[[int], None] | None = None) -> EfficiencyResult:
     """The efficiency datasheet of the nominal unit (docs/efficiency.md): the efficiency and each
     element's loss at the rated point, the efficiency map against output torque, speed and
@@ -494,14 +494,17 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     rated point's (default [capacity] rated_output_speed_rpm); ``samples``: that many units of the elastic
     model's production run with ``seed`` (the same units as ``simulate(..., model="elastic")``), each
     followed through the crank angles: their efficiency's distribution and the yield against
-    ``spec_min_efficiency`` (a lower limit, 0-1). The design needs [elastic]."""
+    ``spec_min_efficiency`` (a lower limit, 0-1); ``unit_map``: also every unit's efficiency at the map's
+    output torques (``run.by_torque``, ``run.unit_map``). The design needs [elastic]."""
     from rvbacklash.analysis.losses import efficiency_rating
-    from rvbacklash.analysis.losses.efficiency import DEFAULT_ANGLES, progress_steps
+    from rvbacklash.analysis.losses.efficiency import DEFAULT_ANGLES, DEFAULT_TORQUE_FRACTIONS, progress_steps
     from rvbacklash.design.duty_cycle import read_duty_cycle
 
     from rvbacklash.analysis.losses.production import check_run
 
     check_run(samples, spec_min_efficiency)
+    if unit_map and not samples:
+        raise InputError("unit_map", unit_map, "allowed: with samples (a production run)")
     cycle = read_duty_cycle(example_duty_cycle(duty_cycle)) if duty_cycle is not None else None
     problem = prepare(design)
     if problem.design.elastic is None:
@@ -518,6 +521,7 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
         return result
     steps = progress_steps(duty_cycle=cycle)
     run = efficiency_run(problem, units=samples, seed=seed, angles=k, temperature_c=result.temperature_c,
+                         torque_fractions=DEFAULT_TORQUE_FRACTIONS if unit_map else (),
                          output_speed_rpm=result.rated_output_speed_rpm, spec_min_efficiency=spec_min_efficiency,
                          progress=None if progress is None else (lambda i: progress(steps + i)))
     return dataclasses.replace(result, production=run)

@@ -80,6 +80,12 @@ def print_efficiency(r, console) -> None:
         if run.yield_ is not None:
             line += f"; yield at >= {run.spec_min_efficiency:.1%}: {run.yield_:.1%}"
         console.print(line)
+        for b in run.by_torque:
+            line = (f"  at {b.output_torque_nm:g} N m: mean {b.mean:.1%}, sigma {b.sigma:.1%}, min {b.min:.1%}, "
+                    f"median {b.median:.1%}, max {b.max:.1%}")
+            if b.yield_ is not None:
+                line += f"; yield {b.yield_:.1%}"
+            console.print(escape(line))
         preloaded = [u for u in run.per_unit if u.cycloid_preload_um > 0.0]
         if preloaded:
             console.print(f"  {len(preloaded)} preloaded units (their pins bear on both flanks): mean efficiency "
@@ -131,6 +137,9 @@ def efficiency(
                                                  "units `simulate --model elastic` draws with --seed), each followed "
                                                  "through the crank angles: their efficiency at the rated point."),
     seed: int = SEED_OPTION,
+    unit_map: bool = typer.Option(False, "--unit-map", help="With -n: each unit's efficiency at the map's output "
+                                  "torques too (10-100 % of the rated torque, the rated speed): the run's "
+                                  "distribution and yield per torque."),
     spec_min_efficiency: Optional[float] = typer.Option(None, "--spec-min-efficiency", help="With -n: the yield "
                                                         "of efficiency >= this (0-1) at the rated point."),
     json_out: Optional[str] = json_option("the efficiency, the losses per element, the map, no-load, starting and "
@@ -158,7 +167,7 @@ def efficiency(
         raise InputError("spec_min_efficiency", spec_min_efficiency, "allowed: with -n/--samples (a production run)")
     with progress_bar(progress_steps(duty_cycle=duty_cycle, units=samples), what="losses", enabled=not quiet) as progress:
         result = api.efficiency(design, duty_cycle=duty_cycle, angles=angles, temperature_c=temperature,
-                                output_speed_rpm=output_speed, samples=samples, seed=seed,
+                                output_speed_rpm=output_speed, samples=samples, seed=seed, unit_map=unit_map,
                                 spec_min_efficiency=spec_min_efficiency, progress=progress)
     data, rows = result.to_dict(), result.rows()
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
