@@ -24,7 +24,8 @@ CONTACTS = (MESH, MESH + '\nfriction_model = "contacts"')
 
 def contacts_design(*lubrication: str, stated: str | None = None):
     lines = "\n".join(lubrication)
-    replacements = [CONTACTS if stated is None else (MESH, MESH + f'\nfriction_model = "contacts"\nfriction_torque_nm = {stated}')]
+    replacements = [CONTACTS if stated is None else
+                    (MESH, MESH + f'\nfriction_model = "contacts"\nfriction_torque_nm = {stated}')]
     if lines:
         replacements.append(("[capacity]", f"[lubrication]\n{lines}\n\n[capacity]"))
     return example_with("rv80e", *replacements)

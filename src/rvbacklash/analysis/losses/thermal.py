@@ -23,14 +23,22 @@ bearings' clearance (alpha_d D_bore - alpha_c d_e - 2 alpha_n D_w) dT, and (with
 crank support bearings' radial clearance (alpha_carrier D_o - alpha_c d_i - 2 alpha_n D_w) dT, D_o and
 d_i their outer and inner raceways (d_m +- D_w; the outer ring press-fitted follows the carrier's seat,
 the rollers are the needles' steel): negative, a preload, when the steel journal and rollers outgrow
-the iron carrier. The nominal unit's lost motion, backlash and rigidity at the temperature follow from
-these clearances (rigidity: the support bearings' preload and the crank bearings' load zone). Equal
-coefficients leave every clearance as it was: lengths are read in the disc's frame (over 1 + alpha_d dT,
-which leaves every angle as it is), where the disc's profile and its modifications stay as designed and only
-the other parts' growth against the disc's is left; equal coefficients change nothing (tested, TE too). Not followed: the eccentricity's and the crank circle's mismatch (they would move
-the cranks' phases against the disc's bores), the involute stage's centre distance, the support pairs'
-axial clearance along the crank's span (the arrangement, X or O, is not in the design: rv80e's 45 mm
-span and 1.5e-6 /K between crank and carrier give 2.7 um axially at 60 degC), the TE at temperature.
+the iron carrier. Lengths are read in the disc's frame (over 1 + alpha_d dT, which leaves every angle as
+it is): the disc's profile and its modifications stay as designed, only the other parts' growth against
+the disc's is left, so equal coefficients change nothing (tested: clearances, lost motion, backlash,
+rigidity and TE). Since heat40 also: the cranks' throw against the profile's eccentricity a (alpha_c -
+alpha_d) dT (a crank eccentricity error), the carrier's crank circle against the discs' bores a0
+(alpha_carrier - alpha_d) dT (every eccentric offset radially in its needle bearing: the tangential
+clearance is the clearance circle's chord, ``friction.offset_clearance_um``), the involute stage's centre
+distance a (alpha_carrier - alpha_gear) dT (its backlash by Eq. (1)'s transfer; an involute mesh's ratio,
+so its TE, does not depend on it). These are a transformation of the unit (``unit_at_temperature``): the
+nominal unit's lost motion, backlash, rigidity (the support bearings' preload, the crank bearings' load
+zone) and TE at the temperature, and any unit's TE (``transmission_at_temperature``; the error-free
+reference stays the design at the reference temperature). Not followed: the support pairs' axial
+clearance along the crank's span (the arrangement, X or O, is not in the design: rv80e's 45 mm span and
+1.5e-6 /K between crank and carrier give 2.7 um axially at 60 degC), the needle bearings' radial preload
+once the crank circle has closed them (their dead band goes to 0, their stiffening is not followed), the
+main bearings' preload, the parts' own errors scaling with them (um x 1e-3).
 """
 
 from __future__ import annotations
@@ -38,9 +46,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from rvbacklash.design.duty_cycle import DutyCycle
 import numpy as np
 
+from rvbacklash.design.duty_cycle import DutyCycle
 from rvbacklash.design.lubrication import ThermalInputs, housing_envelope
 from rvbacklash.models import friction as fr
 from rvbacklash.models.unit_errors import Realization
@@ -62,9 +70,9 @@ class ClearanceChange(Result):
     pin_hole_clearance_um: float  # added to the zone mean (diametral)
     crank_bearing_clearance_um: float  # added to the zone mean
     support_bearing_clearance_um: float = 0.0  # added to the support bearings' (diametral; negative: a preload)
-    crank_eccentricity_um: float = 0.0  # the cranks' throw against the discs' profile eccentricity (added to the error)
-    crank_circle_um: float = 0.0  # the carrier's crank circle against the discs' bore circle (radial offset in each bore)
-    centre_distance_um: float = 0.0  # the involute stage's centre distance against its gears (positive: gears apart)
+    crank_eccentricity_um: float = 0.0  # the cranks' throw against the profile's eccentricity (added to the error)
+    crank_circle_um: float = 0.0  # the carrier's crank circle against the discs' bores (radial offset in each bore)
+    centre_distance_um: float = 0.0  # the involute stage's centre distance against its gears (positive: apart)
 
 
 def clearance_change(problem: Problem, thermal: ThermalInputs, temperature_c: float) -> ClearanceChange:
@@ -97,9 +105,8 @@ def clearance_change(problem: Problem, thermal: ThermalInputs, temperature_c: fl
     # Lengths are read in the disc's frame (every length over 1 + alpha_d dT; angles do not change with a
     # uniform scaling): the disc's profile, its modifications included, is as designed there, and only the
     # other parts' growth against the disc's is left. Equal coefficients: every change exactly 0.
-    # the cranks' throw (crank steel) against the eccentricity the discs' profile was generated with (the disc's);
-    # the carrier's crank circle against the discs' bore circle; the carrier's crank circle (the planets' axes)
-    # against the gears' own growth (the involute stage's centre distance)
+    # The cranks' throw against the eccentricity the profile was generated with; the carrier's crank circle
+    # against the discs' bores; the carrier's crank circle (the planets' axes) against the gears' own growth.
     geo = problem.geometry
     ecc = fr.thermal_growth_um(s2.eccentricity_mm, a_c - a_d, dt)
     circle = fr.thermal_growth_um(geo.crank_circle_radius_mm, thermal.carrier_expansion_per_k - a_d, dt)
@@ -166,7 +173,7 @@ class PrecisionAtTemperature(Result):
     backlash_arcmin: float
     clearance: ClearanceChange
     torsional_rigidity_nm_per_arcmin: float = float("nan")
-    te_peak_to_peak_arcsec: float = float("nan")  # the nominal unit's TE at the temperature (against the reference's)
+    te_peak_to_peak_arcsec: float = float("nan")  # the nominal unit's TE there (against the reference's)
     crank_bearing_clearance_um: float = float("nan")  # the needle bearings' tangential clearance the loop reads
 
 
@@ -178,12 +185,11 @@ def precision_at_temperature(problem: Problem, model, thermal: ThermalInputs, te
     ``te_positions`` its TE there (``transmission_at_temperature``, no shares)."""
     from dataclasses import replace
     from rvbacklash.factors.catalog import FACTOR_KEYS
-    from rvbacklash.models.kinematics import perfect_unit
     from rvbacklash.models.elastic import other_stages_nominal
-    from rvbacklash.units import ARCMIN_PER_RAD
     from rvbacklash.models.elastic.chain import BACKLASH, LOST_MOTION, RIGIDITY
     from rvbacklash.models.elastic.unit import PreparedUnit, unit_from_realization
-    from rvbacklash.models.unit_errors import Realization
+    from rvbacklash.models.kinematics import perfect_unit
+    from rvbacklash.units import ARCMIN_PER_RAD
 
     c = clearance_change(problem, thermal, temperature_c)
     s2 = problem.design.second_stage
@@ -216,17 +222,19 @@ def transmission_at_temperature(problem: Problem, r: Realization, change: Cleara
     their linear means) changed by the centre distance and the crank bearings' clearance at the
     temperature. The involute stage's TE does not change with its centre distance (an involute mesh's
     ratio does not depend on it)."""
+    from dataclasses import replace
+
     from rvbacklash.analysis.contact import linear_stage_means
     from rvbacklash.analysis.transmission import transmission_error
 
-    d_inv, d_crank = other_stages_at_temperature(problem, change, float(
-        problem.means_um[_factor("crank_bearing_clearance")]))
+    clearance = r.crank_clearance_um if r.crank_clearance_um is not None else \
+        float(problem.means_um[_factor("crank_bearing_clearance")])  # the unit's own (measured), else the zone's
+    d_inv, d_crank = other_stages_at_temperature(problem, change, float(clearance))
     other = float(sum(linear_stage_means(problem)[0].values())) if other_stages_arcmin is None else \
         float(other_stages_arcmin)
-    from dataclasses import replace
-
     result = transmission_error(problem, unit_at_temperature(r, change), f"{label} at {change.temperature_c:g} degC",
-                                positions, load_direction, shares, other_stages_arcmin=max(other + d_inv + d_crank, 0.0))
+                                positions, load_direction, shares,
+                                other_stages_arcmin=max(other + d_inv + d_crank, 0.0))
     source = "linear means" if other_stages_arcmin is None else "given"
     return replace(result, temperature_c=float(change.temperature_c),
                    other_stages_from=f"{source}, at {change.temperature_c:g} degC")
