@@ -232,19 +232,31 @@ def contact(design: DesignLike, *, crank_angle_deg: float | None = None, measure
 
 
 def transmission_error(design: DesignLike, *, measured=None, unit: int | None = None, positions: int | None = None,
-                       load_direction: str = "ccw", shares: bool = True):
+                       load_direction: str = "ccw", shares: bool = True, temperature_c: float | None = None):
     """Transmission error and rigid lost motion of one unit over a full output revolution
     (docs/transmission-error.md): the nominal design, or unit ``unit`` (0-based, default 0) of
     ``measured`` (a UNIT.toml path, a MeasuredUnit or a list of them), from its crank angle.
     ``positions`` per revolution (default 1024), ``load_direction`` the flank of the headline
-    figures (ccw | cw), ``shares`` the TE with each error group switched off."""
+    figures (ccw | cw), ``shares`` the TE with each error group switched off; ``temperature_c``: the
+    reducer's temperature (oil and parts alike, as ``efficiency``'s) [degC]: the unit with its parts'
+    differential expansion from [thermal] (docs/efficiency.md; None: the reference temperature)."""
     from rvbacklash.analysis.contact import unit_realization
     from rvbacklash.analysis.transmission import DEFAULT_POSITIONS, perfect_unit
-    from rvbacklash.analysis.transmission import transmission_error as _te
+    from rvbacklash.analysis.transmission import transmission_error as _plain_te
     from rvbacklash.design.measured import MeasuredUnit, load_units
 
     problem = prepare(design)
     n = DEFAULT_POSITIONS if positions is None else positions
+    if temperature_c is not None:
+        from rvbacklash.analysis.losses.thermal import check_temperature, clearance_change, transmission_at_temperature
+
+        change = clearance_change(problem, problem.design.thermal, check_temperature("temperature_c", temperature_c))
+
+        def _te(problem, r, label, n, load_direction, shares, other_stages_arcmin=None):
+            return transmission_at_temperature(problem, r, change, n, load_direction, shares, label,
+                                               other_stages_arcmin)
+    else:
+        _te = _plain_te
     if measured is None:
         if unit is not None:
             raise InputError("unit", unit, "allowed only with measured units")
@@ -470,7 +482,7 @@ def capacity(design: DesignLike, *, duty_cycle: str | Path | None = None, angles
 
 def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angles: int | None = None,
                temperature_c: float | None = None, output_speed_rpm: float | None = None, samples: int = 0,
-               seed: int = 0, spec_min_efficiency: float | None = None,
+               seed: int = 0, spec_min_efficiency: float | None = None, unit_map: bool = False,
                progress: Callable[[int], None] | None = None) -> EfficiencyResult:
     """The efficiency datasheet of the nominal unit (docs/efficiency.md): the efficiency and each
     element's loss at the rated point, the efficiency map against output torque, speed and
@@ -482,14 +494,17 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
     rated point's (default [capacity] rated_output_speed_rpm); ``samples``: that many units of the elastic
     model's production run with ``seed`` (the same units as ``simulate(..., model="elastic")``), each
     followed through the crank angles: their efficiency's distribution and the yield against
-    ``spec_min_efficiency`` (a lower limit, 0-1). The design needs [elastic]."""
+    ``spec_min_efficiency`` (a lower limit, 0-1); ``unit_map``: also every unit's efficiency at the map's
+    output torques (``run.by_torque``, ``run.unit_map``). The design needs [elastic]."""
     from rvbacklash.analysis.losses import efficiency_rating
-    from rvbacklash.analysis.losses.efficiency import DEFAULT_ANGLES, progress_steps
+    from rvbacklash.analysis.losses.efficiency import DEFAULT_ANGLES, DEFAULT_TORQUE_FRACTIONS, progress_steps
     from rvbacklash.design.duty_cycle import read_duty_cycle
 
     from rvbacklash.analysis.losses.production import check_run
 
     check_run(samples, spec_min_efficiency)
+    if unit_map and not samples:
+        raise InputError("unit_map", unit_map, "allowed: with samples (a production run)")
     cycle = read_duty_cycle(example_duty_cycle(duty_cycle)) if duty_cycle is not None else None
     problem = prepare(design)
     if problem.design.elastic is None:
@@ -506,6 +521,7 @@ def efficiency(design: DesignLike, *, duty_cycle: str | Path | None = None, angl
         return result
     steps = progress_steps(duty_cycle=cycle)
     run = efficiency_run(problem, units=samples, seed=seed, angles=k, temperature_c=result.temperature_c,
+                         torque_fractions=DEFAULT_TORQUE_FRACTIONS if unit_map else (),
                          output_speed_rpm=result.rated_output_speed_rpm, spec_min_efficiency=spec_min_efficiency,
                          progress=None if progress is None else (lambda i: progress(steps + i)))
     return dataclasses.replace(result, production=run)

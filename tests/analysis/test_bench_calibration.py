@@ -25,6 +25,13 @@ def with_elastic(design, **fields):
 
 
 @pytest.fixture(scope="module")
+def stated_problem(rv80e):
+    """rv80e with the loop's friction the stated constant (friction_model = "stated"): calibrate fits the
+    bare torque friction_torque_nm (the default, the contacts' friction, fits its coefficient)."""
+    return with_elastic(rv80e, friction_model="stated")
+
+
+@pytest.fixture(scope="module")
 def truth(rv80e):
     return with_elastic(rv80e, structure_stiffness_nm_per_arcmin=TRUE_K, friction_torque_nm=TRUE_TF)
 
@@ -35,12 +42,12 @@ def unit_file(truth, path, clearance, seed, samples=250, noise=0.01):
     return write_loop_csv(path, t, q, a, angle_unit="deg")
 
 
-def test_one_unit_recovers_stiffness_friction_and_clearance(rv80e_problem, truth, tmp_path):
+def test_one_unit_recovers_stiffness_friction_and_clearance(stated_problem, truth, tmp_path):
     """Done-when check: calibrate on the model's loop (noise, offset, drift, two cycles, degrees)
     recovers the structure stiffness and the friction within their 95 % intervals, and the
     calibrated design's loop reproduces the measured one."""
     f = unit_file(truth, tmp_path / "u.csv", 6.0, seed=3)
-    r = calibrate(rv80e_problem, [f], bootstrap=0)
+    r = calibrate(stated_problem, [f], bootstrap=0)
     for name, true in (("structure_stiffness_nm_per_arcmin", TRUE_K), ("friction_torque_nm", TRUE_TF),
                        ("crank_clearance_offset_um", 6.0 - NOMINAL_CLEARANCE)):
         p = r.parameter(name)
@@ -61,12 +68,12 @@ def test_one_unit_recovers_stiffness_friction_and_clearance(rv80e_problem, truth
     assert r.design.factors.crank_bearing_clearance.mean_um == pytest.approx(6.0, abs=0.05)
 
 
-def test_a_batch_of_five_units_with_different_clearances(rv80e_problem, truth, tmp_path):
+def test_a_batch_of_five_units_with_different_clearances(stated_problem, truth, tmp_path):
     """Done-when check: five units, clearances 3..7 um: the stiffness and friction come back within
     the bootstrap's intervals, the clearance offset is the batch's mean, the spread is reported."""
     clearances = (3.0, 4.0, 5.0, 6.0, 7.0)
     files = [unit_file(truth, tmp_path / f"u{i}.csv", g, seed=10 + i, samples=60) for i, g in enumerate(clearances)]
-    r = calibrate(rv80e_problem, files, bootstrap=4, seed=1)
+    r = calibrate(stated_problem, files, bootstrap=4, seed=1)
     assert r.bootstrap_resamples >= 3
     for name, true in (("structure_stiffness_nm_per_arcmin", TRUE_K), ("friction_torque_nm", TRUE_TF)):
         p = r.parameter(name)
@@ -135,24 +142,24 @@ def test_a_loop_the_model_did_not_make_is_flagged(rv80e_problem, truth, tmp_path
 
 
 @pytest.mark.parametrize("noise", [0.0, 0.01])
-def test_the_models_own_loop_is_not_flagged(rv80e_problem, truth, tmp_path, noise):
+def test_the_models_own_loop_is_not_flagged(stated_problem, truth, tmp_path, noise):
     """The model's own loop (noiseless: the model's resolution is all the residual; with noise, two
     cycles, offset, drift) fits without a flag."""
     f = unit_file(truth, tmp_path / "u.csv", 6.0, seed=3, noise=noise)
-    r = calibrate(rv80e_problem, [f], bootstrap=0)
+    r = calibrate(stated_problem, [f], bootstrap=0)
     assert not r.lack_of_fit and r.flags == () and r.residual_over_expected < 1.1
     assert all(p.at_bound is None for p in r.parameters)
     assert max(s.over_expected for s in r.misfit) < 1.25
 
 
-def test_the_contacts_friction_model_fits_its_coefficient(tmp_path):
-    """Issue 40 item 3: with friction_model = "contacts" calibrate fits the friction model's uncertain
-    coefficient (the static coefficient on the pins and the mesh, [lubrication]) instead of a bare torque:
-    a model-made loop (noise, offset, drift) with mu_s = 0.25 gives it back within its 95 % interval, the
-    calibrated design carries it in [lubrication] and reproduces the loop's friction."""
-    from helpers import example_with
-
-    base = example_with("rv80e", ("friction_torque_nm = 2.0", 'friction_model = "contacts"'))
+def test_the_contacts_friction_model_fits_its_coefficient(rv80e, tmp_path):
+    """Issue 40 item 3: with the contacts' friction (the default since heat40: the example states no
+    friction) calibrate fits the friction model's uncertain coefficient (the static coefficient on the
+    pins and the mesh, [lubrication]) instead of a bare torque: a model-made loop (noise, offset, drift)
+    with mu_s = 0.25 gives it back within its 95 % interval, the calibrated design carries it in
+    [lubrication] and reproduces the loop's friction."""
+    base = rv80e
+    assert base.elastic.friction_model is None and base.elastic.loop_friction_model == "contacts"
     truth = with_elastic(base.model_copy(update={"lubrication": base.lubrication.model_copy(
         update={"static_friction_coefficient": 0.25})}), structure_stiffness_nm_per_arcmin=TRUE_K)
     f = unit_file(truth, tmp_path / "u.csv", 6.0, seed=3, samples=150)

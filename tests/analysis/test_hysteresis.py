@@ -200,9 +200,10 @@ def with_elastic(rv80e, **changes):
     return rb.prepare(rv80e.model_copy(update={"elastic": rv80e.elastic.model_copy(update=changes)}))
 
 
+# the stated constant 2 N m (the example's friction before the contacts' became the default, heat40)
 @pytest.mark.parametrize("changes, stuck", [
-    ({"rated_torque_nm": 66.0}, True),  # x T_R = 1.98 N m < T_f = 2 N m
-    ({"rated_torque_nm": 67.0}, False),  # x T_R = 2.01 N m > T_f
+    ({"rated_torque_nm": 66.0, "friction_torque_nm": 2.0}, True),  # x T_R = 1.98 N m < T_f = 2 N m
+    ({"rated_torque_nm": 67.0, "friction_torque_nm": 2.0}, False),  # x T_R = 2.01 N m > T_f
     ({"friction_torque_nm": 23.50}, False),  # x T_R = 23.52 N m (T_R = 784)
     ({"friction_torque_nm": 23.52}, True),  # T_f = x T_R: the rising branch arrives at 0 from below
 ])
@@ -234,7 +235,8 @@ def test_a_production_run_in_the_stick_band_flags_its_lost_motion_and_yield(rv80
     from helpers import run_cli
     from rvbacklash.report.files import render_csv
 
-    stuck, free = with_elastic(rv80e, rated_torque_nm=66.0), with_elastic(rv80e, rated_torque_nm=67.0)
+    stuck = with_elastic(rv80e, rated_torque_nm=66.0, friction_torque_nm=2.0)  # the stated constant
+    free = with_elastic(rv80e, rated_torque_nm=67.0, friction_torque_nm=2.0)
     run = simulate(stuck, samples=300, seed=1, model="elastic", specs={"lost_motion": 1.0})
     lm = run.outputs["lost_motion"]
     assert lm.yield_.fraction == 1.0  # every unit "meets" 1 arcmin: the stick band, not the play

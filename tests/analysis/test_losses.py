@@ -194,3 +194,27 @@ def test_a_production_runs_efficiency_is_seeded_and_its_yield_counts_its_units(p
     assert all((u.cycloid_preload_um > 0) != (u.cycloid_play_arcmin == u.cycloid_play_arcmin) for u in a.per_unit)
     with pytest.raises(InputError, match="units"):
         efficiency_run(problem, units=0)
+
+
+def test_a_production_runs_efficiency_over_torque_per_unit(problem):
+    """heat40 (issue 40, per-unit maps beyond the rated point): every unit of the run at the map's
+    torques, the same units and numbers as the rated point's run; efficiency falls towards low torque
+    for every unit (the load-independent losses' share grows)."""
+    from rvbacklash.analysis.losses.efficiency import LossModel
+    from rvbacklash.analysis.losses.production import efficiency_run
+    from rvbacklash.analysis.simulation import simulate
+
+    run = efficiency_run(problem, units=3, seed=3, angles=4, spec_min_efficiency=0.8, torque_fractions=(0.25, 1.0))
+    assert [b.output_torque_nm for b in run.by_torque] == [196.0, 784.0] and len(run.unit_map) == 6
+    rated = run.by_torque[-1]
+    assert (rated.mean, rated.min, rated.max, rated.yield_) == (run.mean, run.min, run.max, run.yield_)
+    low = {c.unit: c.efficiency for c in run.unit_map if c.output_torque_nm == 196.0}
+    assert all(low[u.unit] < u.efficiency for u in run.per_unit)
+    # unit 1 at 25 % T_R by hand: its own LossModel at that point
+    r, _, _ = simulate(problem, model="elastic", samples=3, seed=3, save_units=3, workers=1).units[1]
+    lm = LossModel(problem, 4, realization=r, crank_clearance_um=r.crank_clearance_um)
+    t = problem.design.lubrication.temperature_c
+    assert low[1] == pytest.approx(lm.point(196.0, run.output_speed_rpm, t).efficiency, rel=1e-12)
+    assert run.to_dict()["by_torque"][0]["yield"] == run.by_torque[0].yield_
+    with pytest.raises(InputError, match="torque_fractions"):
+        efficiency_run(problem, units=1, torque_fractions=(1.5,))

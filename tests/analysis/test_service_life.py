@@ -102,9 +102,12 @@ def test_uniform_flank_wear_is_an_equidistance_modification_to_the_bit(rv80e):
     p2 = api.prepare(modified)
     m2 = elastic_model(p2)
     # the disc's body (finite elements of the unworn disc: docs/service-life.md) is not re-meshed for
-    # the wear: with the same body the worn unit IS the modified design, to the bit
+    # the wear, nor the loop's friction law re-derived (the contacts' friction, the default since heat40,
+    # is derived once per design on its nominal unit): with the same body and friction the worn unit IS
+    # the modified design, to the bit
     same_body = dataclasses.replace(m2, chain=m2.chain._replace(
-        disc_body_compliance_rad_per_nm=model.chain.disc_body_compliance_rad_per_nm))
+        disc_body_compliance_rad_per_nm=model.chain.disc_body_compliance_rad_per_nm,
+        friction_nm=model.chain.friction_nm, friction_fraction=model.chain.friction_fraction))
     other = PreparedUnit(same_body, nominal_unit(p2)).figures()
     assert worn[LOST_MOTION] == other[LOST_MOTION]  # bit for bit
     assert np.array_equal(worn, other)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import rvbacklash as rb
-from helpers import call_beside_fifo, one_line_error, run_cli
+from helpers import call_beside_fifo, example_text, one_line_error, run_cli
 from rvbacklash.analysis.bench_synthetic import model_loop_samples, te_curve, write_loop_csv, write_te_csv
 from rvbacklash.report.schemas import output_schema
 
@@ -67,7 +67,9 @@ def test_calibrate_writes_a_design_that_reproduces_the_loop(loop_file, tmp_path)
     """Done-when check: `calibrate` recovers the stiffness and the friction within their intervals
     and `hysteresis calibrated.toml` gives the measured figures."""
     out, js, svg = tmp_path / "calibrated.toml", tmp_path / "c.json", tmp_path / "c.svg"
-    p = run_cli("calibrate", "rv80e", "--bench", loop_file, "--write-design", out, "--json", js, "--plot", svg)
+    stated = tmp_path / "stated.toml"  # the loop's friction the stated constant: the fit's parameter is the torque
+    stated.write_text(example_text("rv80e").replace("[elastic]\n", '[elastic]\nfriction_model = "stated"\n', 1))
+    p = run_cli("calibrate", stated, "--bench", loop_file, "--write-design", out, "--json", js, "--plot", svg)
     assert p.returncode == 0, p.stderr
     d = json.loads(js.read_text())
     jsonschema.validate(d, output_schema("calibrate"))

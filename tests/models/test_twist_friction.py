@@ -18,13 +18,14 @@ from rvbacklash.problem import prepare
 
 from helpers import example_with
 
-CONTACTS = ("friction_torque_nm = 2.0", 'friction_model = "contacts"')
+MESH = "mesh_stiffness_n_per_mm_um = 20.0"
+CONTACTS = (MESH, MESH + '\nfriction_model = "contacts"')
 
 
 def contacts_design(*lubrication: str, stated: str | None = None):
     lines = "\n".join(lubrication)
-    replacements = [CONTACTS if stated is None else ("friction_torque_nm = 2.0",
-                                                      f'friction_model = "contacts"\nfriction_torque_nm = {stated}')]
+    replacements = [CONTACTS if stated is None else
+                    (MESH, MESH + f'\nfriction_model = "contacts"\nfriction_torque_nm = {stated}')]
     if lines:
         replacements.append(("[capacity]", f"[lubrication]\n{lines}\n\n[capacity]"))
     return example_with("rv80e", *replacements)
@@ -160,3 +161,22 @@ def test_the_loops_area_in_closed_form(rv80e):
     loop, _ = build_loop(pu, 21)
     t_r = c.rated_torque_nm
     assert loop_area_j(loop) == pytest.approx(4 * tf * (t_r - tf) / k + 2 * tf * dead, rel=1e-6)
+
+
+def test_the_contacts_friction_is_the_default_and_a_stated_constant_overrides_it(rv80e):
+    """heat40 (issue 40 item 3): a design that states no friction gets the contacts' (rv80e: 1.063 N m +
+    0.00814 |T|); a stated friction_torque_nm without friction_model keeps its old meaning (the constant,
+    no load-dependent part); friction_model = "stated" with nothing stated is no friction; "contacts" with a
+    stated T_0 takes it with the model's slope."""
+    assert rv80e.elastic.friction_model is None and rv80e.elastic.loop_friction_model == "contacts"
+    h = hysteresis(prepare(rv80e))
+    assert h.friction_model == "contacts"
+    assert h.friction_torque_nm == pytest.approx(1.063, abs=0.01) and h.friction_load_fraction > 0.0
+    assert h.backlash_arcmin == pytest.approx(1.5588, abs=5e-4)  # 1.5870 with the former stated 2 N m
+    old = example_with("rv80e", (MESH, MESH + "\nfriction_torque_nm = 2.0"))
+    assert old.elastic.loop_friction_model == "stated"
+    m = el.elastic_model(prepare(old))
+    assert (m.chain.friction_nm, m.chain.friction_fraction, m.twist_friction) == (2.0, 0.0, None)
+    none = example_with("rv80e", (MESH, MESH + '\nfriction_model = "stated"'))
+    c = el.elastic_model(prepare(none)).chain
+    assert (c.friction_nm, c.friction_fraction) == (0.0, 0.0)

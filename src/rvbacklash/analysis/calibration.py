@@ -154,7 +154,7 @@ class _Loops:
             "structure_stiffness_nm_per_arcmin": e.structure_stiffness_nm_per_arcmin or RIGID_NM_PER_ARCMIN})})
         self.model = elastic_model(prepare(base))  # the structure stated: what [structure] derives is replaced
         self.problem = problem
-        self.contacts = e.friction_model == "contacts"
+        self.contacts = e.loop_friction_model == "contacts"
         self._twist: dict = {}
         self.names = CONTACT_PARAMETERS if self.contacts else PARAMETERS
         if self.contacts and e.friction_load_fraction is not None:

@@ -262,7 +262,7 @@ def unit_hysteresis_result(problem: Problem, model: ElasticModel, unit: ElasticU
         pins_in_contact_at_rated=tuple(int(n) for n in (pu.pin_closures_um(at_rated) > 0).sum(axis=1)),
         pins_in_contact_at_measuring=tuple(int(n) for n in (pu.pin_closures_um(at_x) > 0).sum(axis=1)),
         max_pin_force_at_rated_n=float(forces.max()), friction_torque_nm=c.friction_nm,
-        friction_load_fraction=c.friction_fraction, friction_model=e.friction_model,
+        friction_load_fraction=c.friction_fraction, friction_model=e.loop_friction_model,
         friction_at_rated_nm=float(tr - cm.elastic_torque_nm(tr, True, c.friction_nm, c.friction_fraction)),
         hysteresis_loss_j=loop_area_j(loop), contact_law=e.contact_law, lever_arms=e.lever_arms,
         lever_factor=c.lever_factor, involute_stiffness_nm_per_arcmin=model.involute_stiffness_nm_per_arcmin,

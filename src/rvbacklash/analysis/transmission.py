@@ -121,6 +121,7 @@ class TransmissionErrorResult(Result):
     te_cw_arcsec: np.ndarray = field(metadata={EXPORT: True})
     lost_motion_arcmin: np.ndarray = field(metadata={EXPORT: True})  # cycloid_stage_arcmin + other_stages_arcmin
     spectrum_amplitude_arcsec: np.ndarray = field(metadata={EXPORT: True})  # by order 0..N/2, load_direction
+    temperature_c: float | None = None  # the parts' temperature (their expansion; None: the reference, none)
 
     @property
     def te_arcsec(self) -> np.ndarray:

@@ -67,10 +67,10 @@ def print_efficiency(r, console) -> None:
                   f"{r.contacts_loop_friction_at_rated_nm:.2f} N m at {r.rated_torque_nm:g} N m (the hysteresis loop "
                   f"uses {r.loop_friction_model}: {r.stated_friction_torque_nm:.3g} N m + "
                   f"{r.loop_friction_load_fraction:.4g} |T|)")
-    console.print("lost motion / backlash / rigidity of the nominal unit by temperature (the parts' expansion): "
+    console.print("lost motion / backlash / rigidity / TE of the nominal unit by temperature (the parts' expansion): "
                   + ", ".join(
         f"{p.temperature_c:g} degC {p.lost_motion_arcmin:.3f} / {p.backlash_arcmin:.3f} arcmin / "
-        f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin"
+        f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin / {p.te_peak_to_peak_arcsec:.2f} arcsec"
         for p in r.precision_by_temperature))
     run = r.production
     if run is not None:
@@ -80,6 +80,12 @@ def print_efficiency(r, console) -> None:
         if run.yield_ is not None:
             line += f"; yield at >= {run.spec_min_efficiency:.1%}: {run.yield_:.1%}"
         console.print(line)
+        for b in run.by_torque:
+            line = (f"  at {b.output_torque_nm:g} N m: mean {b.mean:.1%}, sigma {b.sigma:.1%}, min {b.min:.1%}, "
+                    f"median {b.median:.1%}, max {b.max:.1%}")
+            if b.yield_ is not None:
+                line += f"; yield {b.yield_:.1%}"
+            console.print(escape(line))
         preloaded = [u for u in run.per_unit if u.cycloid_preload_um > 0.0]
         if preloaded:
             console.print(f"  {len(preloaded)} preloaded units (their pins bear on both flanks): mean efficiency "
@@ -104,8 +110,11 @@ def print_efficiency(r, console) -> None:
                              f"{p.clearance.equidistance_modification_um:+.3f} um, pin holes "
                              f"{p.clearance.pin_hole_clearance_um:+.2f} um, crank bearings "
                              f"{p.clearance.crank_bearing_clearance_um:+.2f} um, support bearings "
-                             f"{p.clearance.support_bearing_clearance_um:+.2f} um; rigidity "
-                             f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin"))
+                             f"{p.clearance.support_bearing_clearance_um:+.2f} um, crank circle "
+                             f"{p.clearance.crank_circle_um:+.2f} um, centre distance "
+                             f"{p.clearance.centre_distance_um:+.2f} um; rigidity "
+                             f"{p.torsional_rigidity_nm_per_arcmin:.1f} N m/arcmin, TE "
+                             f"{p.te_peak_to_peak_arcsec:.2f} arcsec"))
         console.print(u)
 
 
@@ -117,8 +126,10 @@ def efficiency(
                                               "docs/capacity.md): its steady case temperature, time constant, "
                                               "allowable duty at the case limit, lost motion and backlash there.",
                                               metavar="FILE"),
-    temperature: Optional[float] = typer.Option(None, "--temperature", help="The oil's temperature of the figures "
-                                                "[degC] (default: the design's [lubrication] temperature_c, 40)."),
+    temperature: Optional[float] = typer.Option(None, "--temperature", help="The reducer's temperature (oil and parts "
+                                                "alike) [degC] of the figures, and the nominal unit's lost motion, "
+                                                "backlash, rigidity and TE there (the parts' expansion, [thermal]); "
+                                                "default: the design's [lubrication] temperature_c, 40."),
     output_speed: Optional[float] = typer.Option(None, "--output-speed", help="The rated point's output speed [r/min] "
                                                  "(default: [capacity] rated_output_speed_rpm)."),
     angles: Optional[int] = typer.Option(None, "--angles", help="Crank angles per revolution (default 12)."),
@@ -126,6 +137,9 @@ def efficiency(
                                                  "units `simulate --model elastic` draws with --seed), each followed "
                                                  "through the crank angles: their efficiency at the rated point."),
     seed: int = SEED_OPTION,
+    unit_map: bool = typer.Option(False, "--unit-map", help="With -n: each unit's efficiency at the map's output "
+                                  "torques too (10-100 % of the rated torque, the rated speed): the run's "
+                                  "distribution and yield per torque."),
     spec_min_efficiency: Optional[float] = typer.Option(None, "--spec-min-efficiency", help="With -n: the yield "
                                                         "of efficiency >= this (0-1) at the rated point."),
     json_out: Optional[str] = json_option("the efficiency, the losses per element, the map, no-load, starting and "
@@ -153,7 +167,7 @@ def efficiency(
         raise InputError("spec_min_efficiency", spec_min_efficiency, "allowed: with -n/--samples (a production run)")
     with progress_bar(progress_steps(duty_cycle=duty_cycle, units=samples), what="losses", enabled=not quiet) as progress:
         result = api.efficiency(design, duty_cycle=duty_cycle, angles=angles, temperature_c=temperature,
-                                output_speed_rpm=output_speed, samples=samples, seed=seed,
+                                output_speed_rpm=output_speed, samples=samples, seed=seed, unit_map=unit_map,
                                 spec_min_efficiency=spec_min_efficiency, progress=progress)
     data, rows = result.to_dict(), result.rows()
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),

@@ -63,6 +63,10 @@ def transmission_error(
     positions: int = typer.Option(1024, "--positions", help="Output positions per revolution (at least 8 z_p, "
                                                             "the production run's grid: 320 for rv80e)."),
     load_direction: str = typer.Option("ccw", "--load-direction", help="Flank of the headline figures: ccw | cw."),
+    temperature: Optional[float] = typer.Option(None, "--temperature", help="The reducer's temperature (oil and parts "
+                                                "alike, as efficiency's) [degC]: the unit with its parts' differential "
+                                                "expansion ([thermal]; docs/efficiency.md); default: the reference "
+                                                "temperature (20), no expansion."),
     json_out: Optional[str] = json_option("the figures, the curves and the spectrum"),
     csv_out: Optional[str] = csv_option("the curves (one row per output position)"),
     plot: Optional[str] = typer.Option(None, "--plot", help="Write an SVG of the curves and the spectrum to FILE.",
@@ -79,7 +83,7 @@ def transmission_error(
 
     out = Outputs(fmt, force, quiet, json=json_out, csv=csv_out, plot=plot)
     result = api.transmission_error(design, measured=measured, unit=unit, positions=positions,
-                                    load_direction=load_direction)
+                                    load_direction=load_direction, temperature_c=temperature)
     data, rows = result.to_dict(), result.rows()
     out.finish({"--json": lambda: render_json(data), "--csv": lambda: render_csv(rows),
                 "--plot": lambda: te_svg(result)},

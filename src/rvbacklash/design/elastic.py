@@ -121,11 +121,13 @@ class ElasticInputs(_Strict):
     friction_load_fraction: float | None = Field(
         None, ge=0, lt=0.5, description="Coulomb friction torque proportional to the transmitted torque, "
                                         "T_f = T_f0 + mu |T| [-]; not stated: 0, or the contacts' (friction_model)")
-    friction_model: Literal["stated", "contacts"] = Field(
-        "stated", description="where the loop's Coulomb friction comes from: stated (friction_torque_nm and "
-                              "friction_load_fraction as given) or contacts (T_f0 and mu from the contacts' friction "
-                              "under the twist: the pins, bearings, mesh and seal with [lubrication]'s coefficients; "
-                              "a friction_torque_nm or friction_load_fraction stated here wins; docs/efficiency.md)")
+    friction_model: Literal["stated", "contacts"] | None = Field(
+        None, description="where the loop's Coulomb friction comes from: contacts (T_f0 and mu from the contacts' "
+                          "friction under the twist: the pins, bearings, mesh and seal with [lubrication]'s "
+                          "coefficients; a friction_torque_nm or friction_load_fraction stated with it wins) or "
+                          "stated (friction_torque_nm and friction_load_fraction as given, 0 when not). Not stated: "
+                          "stated when friction_torque_nm or friction_load_fraction is given (a file that states "
+                          "its friction keeps its meaning), else contacts (docs/efficiency.md)")
 
     @model_validator(mode="after")
     def _consistent(self) -> "ElasticInputs":
@@ -141,6 +143,18 @@ class ElasticInputs(_Strict):
                              f"output move; allowed friction_torque_nm < rated_torque_nm (1 - friction_load_fraction)"
                              f" = {limit:g}")
         return self
+
+    @property
+    def loop_friction_model(self) -> str:
+        """The friction model the loop uses: ``friction_model`` as stated; not stated, "stated" when the
+        design gives friction_torque_nm or friction_load_fraction (the typed-in constant as an override:
+        such a file means what it meant before the contacts' friction became the default), else
+        "contacts" (issue 40 item 3)."""
+        if self.friction_model is not None:
+            return self.friction_model
+        if self.friction_torque_nm is not None or self.friction_load_fraction is not None:
+            return "stated"
+        return "contacts"
 
     @property
     def stated_friction_nm(self) -> float:

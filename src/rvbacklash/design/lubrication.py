@@ -117,6 +117,8 @@ class ThermalInputs(_Strict):
     crank_expansion_per_k: float = Field(12.5e-6, ge=0, le=1e-4, description="the crankshafts' (eccentrics') [1/K]")
     needle_expansion_per_k: float = Field(12.5e-6, ge=0, le=1e-4, description="the needle rollers' [1/K]")
     carrier_expansion_per_k: float = Field(11.0e-6, ge=0, le=1e-4, description="the carrier's [1/K]")
+    gear_expansion_per_k: float = Field(12.5e-6, ge=0, le=1e-4, description="the involute stage's gears' (centre "
+                                                                             "gear and planets) [1/K]")
 
 
 def housing_envelope(thermal: ThermalInputs, pin_circle_radius_mm: float, pin_radius_mm: float

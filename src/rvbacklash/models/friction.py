@@ -305,3 +305,15 @@ def thermal_growth_um(length_mm: float, expansion_per_k: float, delta_t_k: float
     """Free thermal growth of a length dL = L alpha dT [um] (L [mm], alpha [1/K], dT [K]). Linear
     elasticity-free expansion (any handbook; Incropera & DeWitt, Table A.1 for alpha)."""
     return length_mm * expansion_per_k * delta_t_k * 1e3
+
+
+def offset_clearance_um(clearance_um: float, radial_offset_um: float) -> float:
+    """The tangential free travel of a journal in a bearing of diametral clearance G [um] whose centre
+    is offset across the travel by d [um]: the chord of the clearance circle (radius G/2) at the offset,
+    G_eff = sqrt(G^2 - 4 d^2) [um] (plane geometry); 0 when |d| >= G/2 (the rollers on the offset's side
+    closed: a radial preload, not followed). G <= 0 (a preload already) is returned as it is. Rigid
+    bodies; d = 0 gives G exactly."""
+    if clearance_um <= 0.0:
+        return float(clearance_um)
+    squared = clearance_um * clearance_um - 4.0 * radial_offset_um * radial_offset_um
+    return math.sqrt(squared) if squared > 0.0 else 0.0

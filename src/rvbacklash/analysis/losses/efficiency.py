@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 from rvbacklash.analysis.capacity import UnitCapacity
 from rvbacklash.analysis.losses.elements import ELEMENTS, LossBreakdown, element_losses, loss_context
 from rvbacklash.analysis.losses.run_results import EfficiencyRun
-from rvbacklash.analysis.losses.thermal import (PrecisionAtTemperature, ThermalResult, precision_at_temperature,
-                                               thermal_balance)
+from rvbacklash.analysis.losses.thermal import (TE_POSITIONS_PER_PIN, PrecisionAtTemperature, ThermalResult,
+                                                precision_at_temperature, thermal_balance)
 from rvbacklash.design.lubrication import LubricationInputs
 from rvbacklash.errors import InputError
 from rvbacklash.models.elastic import elastic_model, nominal_realization, other_stages_nominal
@@ -260,8 +260,9 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
     back = back_driving_torque_nm(lm)
     t0, lam = breakaway_at_output(lm)
     th = problem.design.thermal
-    precision = tuple(precision_at_temperature(problem, lm.model, th, t)
-                      for t in sorted({th.reference_temperature_c, *temps}))
+    te_positions = TE_POSITIONS_PER_PIN * problem.cycloid.zp
+    precision = tuple(precision_at_temperature(problem, lm.model, th, t, te_positions=te_positions)
+                      for t in sorted({th.reference_temperature_c, temp, *temps}))
     tick()
     thermal = None
     if duty_cycle is not None:
@@ -288,5 +289,5 @@ def efficiency_rating(problem: Problem, *, angles: int = DEFAULT_ANGLES, tempera
                             rated.mesh_friction_coefficient, _elements(rated), tuple(grid), by_temp, no_load, start,
                             float(start_loaded.efficiency), back, t0, lam,
                             lm.model.chain.friction_nm, precision, assumptions, thermal, None, rated,
-                            problem.design.elastic.friction_model, lm.model.chain.friction_fraction,
+                            problem.design.elastic.loop_friction_model, lm.model.chain.friction_fraction,
                             twist.constant_nm, twist.load_fraction, twist.torque_at_nm(t_r))

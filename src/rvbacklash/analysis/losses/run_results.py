@@ -21,6 +21,28 @@ class UnitEfficiency(Result):
 
 
 @dataclass(frozen=True, repr=False)
+class UnitAtTorque(Result):
+    """One unit's efficiency at one output torque of the run's map (the rated speed and temperature)."""
+
+    unit: int
+    output_torque_nm: float
+    efficiency: float
+
+
+@dataclass(frozen=True, repr=False)
+class RunAtTorque(Result):
+    """The run's efficiency at one output torque: its distribution over the units."""
+
+    output_torque_nm: float
+    mean: float
+    sigma: float
+    min: float
+    median: float
+    max: float
+    yield_: float | None = field(metadata={KEY: "yield"})  # against spec_min_efficiency at this torque
+
+
+@dataclass(frozen=True, repr=False)
 class EfficiencyRun(Result):
     """The efficiency of the units of a production run at the rated point (module docstring)."""
 
@@ -39,12 +61,15 @@ class EfficiencyRun(Result):
     yield_: float | None = field(metadata={KEY: "yield"})
     nominal_efficiency: float
     per_unit: tuple[UnitEfficiency, ...]
+    by_torque: tuple[RunAtTorque, ...] = ()  # with a map over torque (``torque_fractions``): per torque
+    unit_map: tuple[UnitAtTorque, ...] = ()  # every unit at every torque of the map
 
     def summary(self) -> list[str]:
         s = [f"{self.units} units: efficiency mean {self.mean:.2%}, sigma {self.sigma:.2%}, "
              f"range {self.min:.2%} to {self.max:.2%} (nominal {self.nominal_efficiency:.2%})"]
         if self.yield_ is not None:
             s.append(f"yield at efficiency >= {self.spec_min_efficiency:.1%}: {self.yield_:.1%}")
+        s += [f"at {b.output_torque_nm:g} N m: mean {b.mean:.2%}, min {b.min:.2%}" for b in self.by_torque]
         return s
 
     def rows(self) -> list[dict]:

@@ -23,13 +23,22 @@ bearings' clearance (alpha_d D_bore - alpha_c d_e - 2 alpha_n D_w) dT, and (with
 crank support bearings' radial clearance (alpha_carrier D_o - alpha_c d_i - 2 alpha_n D_w) dT, D_o and
 d_i their outer and inner raceways (d_m +- D_w; the outer ring press-fitted follows the carrier's seat,
 the rollers are the needles' steel): negative, a preload, when the steel journal and rollers outgrow
-the iron carrier. The nominal unit's lost motion, backlash and rigidity at the temperature follow from
-these clearances (rigidity: the support bearings' preload and the crank bearings' load zone). Equal
-coefficients leave every clearance as it was (to rounding: the clearances themselves scale by
-1 + alpha dT; tested). Not followed: the eccentricity's and the crank circle's mismatch (they would move
-the cranks' phases against the disc's bores), the involute stage's centre distance, the support pairs'
-axial clearance along the crank's span (the arrangement, X or O, is not in the design: rv80e's 45 mm
-span and 1.5e-6 /K between crank and carrier give 2.7 um axially at 60 degC), the TE at temperature.
+the iron carrier. Lengths are read in the disc's frame (over 1 + alpha_d dT, which leaves every angle as
+it is): the disc's profile and its modifications stay as designed, only the other parts' growth against
+the disc's is left, so equal coefficients change nothing (tested: clearances, lost motion, backlash,
+rigidity and TE). Since heat40 also: the cranks' throw against the profile's eccentricity a (alpha_c -
+alpha_d) dT (a crank eccentricity error), the carrier's crank circle against the discs' bores a0
+(alpha_carrier - alpha_d) dT (every eccentric offset radially in its needle bearing: the tangential
+clearance is the clearance circle's chord, ``friction.offset_clearance_um``), the involute stage's centre
+distance a (alpha_carrier - alpha_gear) dT (its backlash by Eq. (1)'s transfer; an involute mesh's ratio,
+so its TE, does not depend on it). These are a transformation of the unit (``unit_at_temperature``): the
+nominal unit's lost motion, backlash, rigidity (the support bearings' preload, the crank bearings' load
+zone) and TE at the temperature, and any unit's TE (``transmission_at_temperature``; the error-free
+reference stays the design at the reference temperature). Not followed: the support pairs' axial
+clearance along the crank's span (the arrangement, X or O, is not in the design: rv80e's 45 mm span and
+1.5e-6 /K between crank and carrier give 2.7 um axially at 60 degC), the needle bearings' radial preload
+once the crank circle has closed them (their dead band goes to 0, their stiffening is not followed), the
+main bearings' preload, the parts' own errors scaling with them (um x 1e-3).
 """
 
 from __future__ import annotations
@@ -37,13 +46,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from rvbacklash.design.duty_cycle import DutyCycle
 from rvbacklash.design.lubrication import ThermalInputs, housing_envelope
 from rvbacklash.models import friction as fr
+from rvbacklash.models.unit_errors import Realization
 from rvbacklash.problem import Problem
 from rvbacklash.results import Result
 
 TEMPERATURE_TOLERANCE_K = 1e-6
+TE_POSITIONS_PER_PIN = 8  # the nominal unit's TE at a temperature on the production run's grid (8 z_p)
 HIGHEST_C = 400.0  # a steady temperature above this is reported as such (no root below)
 
 
@@ -57,6 +70,9 @@ class ClearanceChange(Result):
     pin_hole_clearance_um: float  # added to the zone mean (diametral)
     crank_bearing_clearance_um: float  # added to the zone mean
     support_bearing_clearance_um: float = 0.0  # added to the support bearings' (diametral; negative: a preload)
+    crank_eccentricity_um: float = 0.0  # the cranks' throw against the profile's eccentricity (added to the error)
+    crank_circle_um: float = 0.0  # the carrier's crank circle against the discs' bores (radial offset in each bore)
+    centre_distance_um: float = 0.0  # the involute stage's centre distance against its gears (positive: apart)
 
 
 def clearance_change(problem: Problem, thermal: ThermalInputs, temperature_c: float) -> ClearanceChange:
@@ -86,10 +102,66 @@ def clearance_change(problem: Problem, thermal: ThermalInputs, temperature_c: fl
             d_w = st.support_bearing_roller_diameter_mm
             support = (fr.thermal_growth_um(dm + d_w, thermal.carrier_expansion_per_k, dt)
                        - fr.thermal_growth_um(dm - d_w, a_c, dt) - fr.thermal_growth_um(2.0 * d_w, a_n, dt))
-    # the designed modifications themselves grow with the disc (equal coefficients: a uniform scaling)
-    moving += s2.moving_distance_modification_um * a_d * dt
-    equidistance += s2.equidistance_modification_um * a_d * dt
-    return ClearanceChange(float(temperature_c), moving, equidistance, pin_hole, crank, support)
+    # Lengths are read in the disc's frame (every length over 1 + alpha_d dT; angles do not change with a
+    # uniform scaling): the disc's profile, its modifications included, is as designed there, and only the
+    # other parts' growth against the disc's is left. Equal coefficients: every change exactly 0.
+    # The cranks' throw against the eccentricity the profile was generated with; the carrier's crank circle
+    # against the discs' bores; the carrier's crank circle (the planets' axes) against the gears' own growth.
+    geo = problem.geometry
+    ecc = fr.thermal_growth_um(s2.eccentricity_mm, a_c - a_d, dt)
+    circle = fr.thermal_growth_um(geo.crank_circle_radius_mm, thermal.carrier_expansion_per_k - a_d, dt)
+    centre = fr.thermal_growth_um(geo.centre_distance_mm,
+                                  thermal.carrier_expansion_per_k - thermal.gear_expansion_per_k, dt)
+    return ClearanceChange(float(temperature_c), moving, equidistance, pin_hole, crank, support, ecc, circle, centre)
+
+
+LOWEST_C, HIGHEST_INPUT_C = -40.0, 150.0  # a temperature a command accepts (as efficiency's)
+
+
+def check_temperature(name: str, temperature_c) -> float:
+    """A temperature [degC] as a command takes it, else the one-line error naming ``name``."""
+    from rvbacklash.errors import InputError
+
+    try:
+        t = float(temperature_c)
+    except (TypeError, ValueError):
+        t = math.nan
+    if isinstance(temperature_c, bool) or not (math.isfinite(t) and LOWEST_C <= t <= HIGHEST_INPUT_C):
+        raise InputError(name, temperature_c, f"allowed: a temperature from {LOWEST_C:g} to {HIGHEST_INPUT_C:g} degC")
+    return t
+
+
+def unit_at_temperature(r: Realization, change: ClearanceChange) -> Realization:
+    """A unit's cycloid-stage geometry at a temperature (module docstring, "Expansion"), in the disc's
+    frame: its modifications, pin-hole clearances and crank eccentricity error changed by ``change``
+    (the contact, elastic and transmission-error models read the result as they read any unit; the
+    error-free reference stays the design at the reference temperature)."""
+    return r.with_(moving_distance_um=np.asarray(r.moving_distance_um, float) + change.moving_distance_modification_um,
+                   equidistance_um=np.asarray(r.equidistance_um, float) + change.equidistance_modification_um,
+                   pin_clearance_um=np.asarray(r.pin_clearance_um, float) + change.pin_hole_clearance_um,
+                   eccentricity_error_um=np.asarray(r.eccentricity_error_um, float) + change.crank_eccentricity_um)
+
+
+def crank_clearance_at_temperature(clearance_um: float, change: ClearanceChange) -> float:
+    """The crank needle bearings' clearance [um] at a temperature as the tangential dead band reads it: the
+    bearing's own change, then the crank circle's offset across it (``friction.offset_clearance_um``: the
+    carrier's crank circle against the discs' bores moves every eccentric radially in its bore, the same
+    for all, so the disc stays centred and each bearing's tangential travel is the clearance circle's chord)."""
+    return fr.offset_clearance_um(clearance_um + change.crank_bearing_clearance_um, change.crank_circle_um)
+
+
+def other_stages_at_temperature(problem: Problem, change: ClearanceChange, crank_clearance_um: float
+                                ) -> tuple[float, float]:
+    """(involute stage's backlash change [arcmin], crank stage's change [arcmin]) at the output from the
+    linear model's sensitivities (Eq. (1)): the centre distance's change (factor 2) and the crank
+    bearings' clearance from ``crank_clearance_um`` to its value at the temperature (factor 20)."""
+    from rvbacklash.factors.catalog import FACTOR_KEYS
+
+    sens = problem.sensitivities_arcmin_per_um
+    involute = float(sens[FACTOR_KEYS.index("centre_distance")]) * change.centre_distance_um
+    crank = float(sens[FACTOR_KEYS.index("crank_bearing_clearance")]) * (
+        crank_clearance_at_temperature(crank_clearance_um, change) - crank_clearance_um)
+    return involute, crank
 
 
 @dataclass(frozen=True, repr=False)
@@ -101,32 +173,77 @@ class PrecisionAtTemperature(Result):
     backlash_arcmin: float
     clearance: ClearanceChange
     torsional_rigidity_nm_per_arcmin: float = float("nan")
+    te_peak_to_peak_arcsec: float = float("nan")  # the nominal unit's TE there (against the reference's)
+    crank_bearing_clearance_um: float = float("nan")  # the needle bearings' tangential clearance the loop reads
 
 
-def precision_at_temperature(problem: Problem, model, thermal: ThermalInputs, temperature_c: float
-                             ) -> PrecisionAtTemperature:
+def precision_at_temperature(problem: Problem, model, thermal: ThermalInputs, temperature_c: float,
+                             te_positions: int | None = None) -> PrecisionAtTemperature:
     """Lost motion, backlash and rigidity of the nominal unit with its clearances at a temperature (its loop
-    by the elastic model: ``PreparedUnit.figures``; the support bearings' clearance change in its chain)."""
+    by the elastic model: ``PreparedUnit.figures``; the support bearings' clearance change in its chain, the
+    involute stage's backlash from its centre distance, the crank bearings' from the crank circle), and with
+    ``te_positions`` its TE there (``transmission_at_temperature``, no shares)."""
     from dataclasses import replace
     from rvbacklash.factors.catalog import FACTOR_KEYS
     from rvbacklash.models.elastic import other_stages_nominal
     from rvbacklash.models.elastic.chain import BACKLASH, LOST_MOTION, RIGIDITY
     from rvbacklash.models.elastic.unit import PreparedUnit, unit_from_realization
-    from rvbacklash.models.unit_errors import Realization
+    from rvbacklash.models.kinematics import perfect_unit
+    from rvbacklash.units import ARCMIN_PER_RAD
 
     c = clearance_change(problem, thermal, temperature_c)
     s2 = problem.design.second_stage
-    pin_hole = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")]) + c.pin_hole_clearance_um
-    r = Realization.nominal(problem.cycloid, s2.equidistance_modification_um + c.equidistance_modification_um,
-                            s2.moving_distance_modification_um + c.moving_distance_modification_um, pin_hole, 0.0)
+    pin_hole = float(problem.means_um[FACTOR_KEYS.index("pin_hole_clearance")])
+    r = unit_at_temperature(Realization.nominal(problem.cycloid, s2.equidistance_modification_um,
+                                                s2.moving_distance_modification_um, pin_hole, 0.0), c)
     inv, clr = other_stages_nominal(problem)
-    unit = unit_from_realization(problem, r, inv, clr + c.crank_bearing_clearance_um)
+    d_inv, _ = other_stages_at_temperature(problem, c, clr)
+    clr_t = crank_clearance_at_temperature(clr, c)
+    unit = unit_from_realization(problem, r, max(inv + d_inv / ARCMIN_PER_RAD, 0.0), clr_t)
     if c.support_bearing_clearance_um != 0.0 and model.chain.support_rollers > 0:
         model = replace(model, chain=model.chain._replace(
             support_clearance_um=model.chain.support_clearance_um + c.support_bearing_clearance_um))
     fig = PreparedUnit(model, unit).figures()
+    te = float("nan")
+    if te_positions:
+        te = transmission_at_temperature(problem, perfect_unit(problem), c, te_positions, shares=False
+                                         ).te_peak_to_peak_arcsec
     return PrecisionAtTemperature(float(temperature_c), float(fig[LOST_MOTION]), float(fig[BACKLASH]), c,
-                                  float(fig[RIGIDITY]))
+                                  float(fig[RIGIDITY]), te, float(clr_t))
+
+
+def transmission_at_temperature(problem: Problem, r: Realization, change: ClearanceChange, positions: int,
+                                load_direction: str = "ccw", shares: bool = True, label: str = "nominal",
+                                other_stages_arcmin: float | None = None):
+    """The transmission error of unit ``r`` with its parts at ``change``'s temperature
+    (``analysis.transmission.transmission_error`` on ``unit_at_temperature``; TE against the error-free
+    unit at the reference temperature, as the bench reads it against the ideal ratio): the cycloid stage's
+    geometry from the expansion; the involute and crank stages' lost motion (``other_stages_arcmin``, or
+    their linear means) changed by the centre distance and the crank bearings' clearance at the
+    temperature. The involute stage's TE does not change with its centre distance (an involute mesh's
+    ratio does not depend on it)."""
+    from dataclasses import replace
+
+    from rvbacklash.analysis.contact import linear_stage_means
+    from rvbacklash.analysis.transmission import transmission_error
+
+    clearance = r.crank_clearance_um if r.crank_clearance_um is not None else \
+        float(problem.means_um[_factor("crank_bearing_clearance")])  # the unit's own (measured), else the zone's
+    d_inv, d_crank = other_stages_at_temperature(problem, change, float(clearance))
+    other = float(sum(linear_stage_means(problem)[0].values())) if other_stages_arcmin is None else \
+        float(other_stages_arcmin)
+    result = transmission_error(problem, unit_at_temperature(r, change), f"{label} at {change.temperature_c:g} degC",
+                                positions, load_direction, shares,
+                                other_stages_arcmin=max(other + d_inv + d_crank, 0.0))
+    source = "linear means" if other_stages_arcmin is None else "given"
+    return replace(result, temperature_c=float(change.temperature_c),
+                   other_stages_from=f"{source}, at {change.temperature_c:g} degC")
+
+
+def _factor(key: str) -> int:
+    from rvbacklash.factors.catalog import FACTOR_KEYS
+
+    return FACTOR_KEYS.index(key)
 
 
 @dataclass(frozen=True, repr=False)
@@ -200,7 +317,8 @@ def thermal_balance(lm, duty: DutyCycle, thermal: ThermalInputs | None = None) -
     heat_lim = heat(th.case_limit_c)
     duty_ok = heat_lim / loss_lim if loss_lim > 0.0 else math.inf
     temps = [th.reference_temperature_c, th.case_limit_c] + ([t_ss] if math.isfinite(t_ss) else [])
-    precision = tuple(precision_at_temperature(problem, lm.model, th, t) for t in temps)
+    te_positions = TE_POSITIONS_PER_PIN * problem.cycloid.zp  # the production run's grid (8 z_p)
+    precision = tuple(precision_at_temperature(problem, lm.model, th, t, te_positions) for t in temps)
     coeffs = {"convection_w_m2k": th.convection_w_m2k, "emissivity": th.emissivity,
               "flange_conductance_w_k": th.flange_conductance_w_k, "specific_heat_j_kgk": th.specific_heat_j_kgk,
               "mass_kg": mass}
@@ -212,7 +330,8 @@ def with_equal_expansion(thermal: ThermalInputs, alpha_per_k: float) -> ThermalI
     """The thermal inputs with every part's coefficient equal (the no-change check)."""
     return replace_model(thermal, housing_expansion_per_k=alpha_per_k, pin_expansion_per_k=alpha_per_k,
                          disc_expansion_per_k=alpha_per_k, crank_expansion_per_k=alpha_per_k,
-                         needle_expansion_per_k=alpha_per_k, carrier_expansion_per_k=alpha_per_k)
+                         needle_expansion_per_k=alpha_per_k, carrier_expansion_per_k=alpha_per_k,
+                         gear_expansion_per_k=alpha_per_k)
 
 
 def replace_model(m, **kw):
@@ -220,4 +339,6 @@ def replace_model(m, **kw):
 
 
 __all__ = ["ClearanceChange", "clearance_change", "PrecisionAtTemperature", "precision_at_temperature",
+           "unit_at_temperature", "crank_clearance_at_temperature", "other_stages_at_temperature",
+           "transmission_at_temperature",
            "ThermalResult", "thermal_balance", "cycle_loss_w", "with_equal_expansion"]

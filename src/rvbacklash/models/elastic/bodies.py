@@ -50,7 +50,7 @@ def elastic_model(problem: Problem) -> ElasticModel:
     discs' bodies and the carrier by FE where ``[structure]`` gives their dimensions, and with
     ``friction_model = "contacts"`` the loop's friction from the contacts (``twist_friction``)."""
     model = _with_bodies(problem, closed_form_model(problem))
-    if model.inputs.friction_model == "contacts":
+    if model.inputs.loop_friction_model == "contacts":
         from rvbacklash.models.elastic.twist_friction import with_twist_friction
         model = with_twist_friction(problem, model)
     return model
