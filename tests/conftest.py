@@ -96,23 +96,6 @@ SLOW_FIRST = (
 )
 
 
-def pytest_sessionstart(session):
-    """The whole suite on xdist workers from an empty numba cache: the kernels compiled once,
-    before the workers start (tests/kernel_warmup.py), instead of by both workers at once. Only
-    in the controller of a run of the whole suite (`make test`, `pytest` without paths): a run of
-    a few files compiles what those need, as before. xdist starts its workers in its own
-    sessionstart, which runs after this one (trylast)."""
-    config = session.config
-    if hasattr(config, "workerinput") or (getattr(config.option, "numprocesses", None) or 0) < 2:
-        return
-    if config.args_source != pytest.Config.ArgsSource.TESTPATHS:
-        return
-    from kernel_warmup import warm_up
-
-    reporter = config.pluginmanager.get_plugin("terminalreporter")
-    warm_up(reporter.write_line if reporter is not None else print)
-
-
 def pytest_collection_modifyitems(config, items):
     rank = {name: i for i, name in enumerate(SLOW_FIRST)}
 
