@@ -131,19 +131,21 @@ class Jobs:
             job.state = "cancelled"
             raise Cancelled(job)
         job.state = "running"
+        stopped = False
         try:
             with stop_on(job.cancel_event):  # the job's loops stop when it is cancelled, as on Ctrl-C
                 result = fn(job)
         except Cancelled:
-            job.state = "cancelled"
-            raise
+            stopped = True
         except BaseException:
-            if job.cancel_event.is_set():  # what a stopped loop raised (too little done to keep, ...)
-                job.state = "cancelled"
-                raise Cancelled(job) from None
-            job.state = "failed"
-            raise
-        if job.cancel_event.is_set():  # finished as it was superseded: its result is not the newest input's
+            if not job.cancel_event.is_set():
+                job.state = "failed"
+                raise
+            stopped = True  # what a stopped loop raised (too little done to keep, ...)
+        # A cancelled job's exception is raised afresh, outside the handler: the one caught carries
+        # the computation's frames (its arrays) in its traceback, and a future keeping it in a
+        # reference cycle would hold them until the next garbage collection.
+        if stopped or job.cancel_event.is_set():  # or finished as it was superseded: not the newest input's
             job.state = "cancelled"
             raise Cancelled(job)
         job.state = "finished"
