@@ -209,8 +209,8 @@ def with_elastic(rv80e, **changes):
 ])
 def test_friction_at_the_measuring_torque_is_said_wherever_lost_motion_is(rv80e, changes, stuck):
     """Metamorphic: a 1.5 % change of T_R (or 0.02 N m of friction) across T_f = x T_R takes the
-    lost motion from about the backlash to a fraction of it (66 N m: 0.070 against a backlash of
-    1.588; 67 N m: 1.566; friction 23.50 -> 23.52 N m at 784 N m: 1.848 -> 0.355 arcmin), with no
+    lost motion from about the backlash to a fraction of it (66 N m: 0.071 against a backlash of
+    1.589; 67 N m: 1.567; friction 23.50 -> 23.52 N m at 784 N m: 1.853 -> 0.359 arcmin), with no
     word before issue 36. The figure is the definition's (a bench reads the same), so it stays; the
     loop says it reads the stick band, naming the friction and x T_R, and says nothing otherwise."""
     h = hysteresis(with_elastic(rv80e, **changes))

@@ -103,9 +103,9 @@ def test_every_units_wear_is_proportional_to_k(rv80e):
 def test_own_wear_follows_each_units_full_stepping(rv80e):
     """Six drawn units to 2000 h of the robot-joint cycle: the growth of their lost motion by the
     first-order correction against each unit's full stepping (its own loads at 12 crank angles, its own
-    flank profile, re-solved every step). Measured (seed 3): full 0.440 / 0.772 / 0.408 / 0.345 /
-    0.504 / 0.873 arcmin; own 0.517 / 0.802 / 0.428 / 0.354 / 0.642 / 1.026; the nominal shortcut 0.311
-    / 0.256 / 0.089 / 0.200 / 0.464 / 0.110."""
+    flank profile, re-solved every step). Measured (seed 3; the contacts' friction, schema 8.0): full 0.439 /
+    0.772 / 0.409 / 0.345 / 0.504 / 0.873 arcmin; own 0.517 / 0.802 / 0.428 / 0.355 / 0.642 / 1.026; the nominal
+    shortcut 0.312 / 0.256 / 0.089 / 0.199 / 0.465 / 0.110."""
     problem, model, cycle = rv80e
     n = 6
     batch, saved = _drawn(problem, n, 3)

@@ -84,6 +84,11 @@ def test_the_workbench_in_a_real_browser(workbench_server, tmp_path):
         eff_card = {k: page.get_attribute(f'#efficiency-card [data-key="{k}"]', "data-value") for k in EFFICIENCY_KEYS}
         temp_card = {k: page.get_attribute(f'#temperature-card [data-key="{k}"]', "data-value")
                      for k in TEMPERATURE_KEYS}
+        te = page.query_selector('#temperature-card [data-key$=".te_peak_to_peak_arcsec"]')  # TE at temperature
+        assert te is not None, "the temperature card shows no TE at the steady temperature"
+        te_key = te.get_attribute("data-key")
+        assert te_key.startswith("efficiency.thermal.precision."), te_key
+        temp_card[te_key] = te.get_attribute("data-value")
         assert page.is_visible("#efficiency-section") and page.inner_text("#efficiency-error") == ""
 
         # the selection card: the same run's units with pins and rollers from classes (issue 39)

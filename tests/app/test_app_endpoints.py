@@ -344,5 +344,10 @@ def test_the_efficiency_cards_answer_the_clis_json(client):
     for k in ("efficiency_at_rated", "starting_torque_nm", "contacts_loop_friction_at_rated_nm", "elements"):
         assert card[k] == theirs[k], k
     assert card["thermal"]["steady_temperature_c"] == theirs["thermal"]["steady_temperature_c"]
+    # the temperature card's TE at the steady temperature (and the reference's beside it) is the CLI's
+    hot, ref = card["thermal"]["precision"][-1], card["thermal"]["precision"][0]
+    assert hot["temperature_c"] == card["thermal"]["steady_temperature_c"]
+    assert hot["te_peak_to_peak_arcsec"] == theirs["thermal"]["precision"][-1]["te_peak_to_peak_arcsec"] > 0.0
+    assert ref["te_peak_to_peak_arcsec"] == theirs["thermal"]["precision"][0]["te_peak_to_peak_arcsec"]
     bad = client.post("/api/efficiency", json={"design": "rv80e", "duty_cycle": "../etc/passwd"})
     assert bad.status_code == 422 and bad.json()["field"] == "duty_cycle"

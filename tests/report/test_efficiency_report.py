@@ -2,6 +2,7 @@
 EfficiencyResult it is given; its cards show the numbers the JSON carries (``efficiency`` command's)."""
 
 import re
+from dataclasses import replace
 
 import pytest
 
@@ -36,6 +37,24 @@ def test_report_with_the_efficiency_and_temperature_cards():
         eff["thermal"]["precision"][last]["lost_motion_arcmin"]
     # the steady temperature's lost motion is the one the card names
     assert eff["thermal"]["precision"][last]["temperature_c"] == eff["thermal"]["steady_temperature_c"]
+    # TE at temperature (issue 40, continued): the card shows the nominal unit's TE at the steady temperature as
+    # `efficiency --duty-cycle` gives it, the table the TE at each temperature of `precision_by_temperature`
+    te_hot = alone["thermal"]["precision"][last]["te_peak_to_peak_arcsec"]
+    assert te_hot > 0.0 and 'id="te-temperature-card"' in section  # the warm unit's TE moved from the reference's
+    assert shown(page, f"efficiency.thermal.precision.{last}.te_peak_to_peak_arcsec") == te_hot
+    assert f"{te_hot:.3f}</span> arcsec" in section
+    table = section[section.index('id="efficiency-temperature"'):]
+    assert "TE peak-to-peak [arcsec]" in table
+    for k, p in enumerate(alone["precision_by_temperature"]):
+        assert shown(page, f"efficiency.precision_by_temperature.{k}.te_peak_to_peak_arcsec") == \
+            p["te_peak_to_peak_arcsec"], p["temperature_c"]
+    # without a duty cycle the card names the hottest temperature of the table
+    cold = render_html(replace(data, efficiency=replace(data.efficiency, thermal=None)))
+    hottest = len(alone["precision_by_temperature"]) - 1
+    assert shown(cold, f"efficiency.precision_by_temperature.{hottest}.te_peak_to_peak_arcsec") == \
+        alone["precision_by_temperature"][hottest]["te_peak_to_peak_arcsec"]
+    card = cold[cold.index('id="te-temperature-card"'):]
+    assert f'transmission error at {alone["precision_by_temperature"][hottest]["temperature_c"]:.1f} °C' in card
 
 
 def test_without_the_flag_no_section_and_a_bad_duty_cycle_fails_first(tmp_path):

@@ -605,6 +605,9 @@ function renderEfficiency(e) {
         hot.lost_motion_arcmin, fmt(hot.lost_motion_arcmin, 3), `(${fmt(cold.lost_motion_arcmin, 3)} at ${cold.temperature_c} °C)`);
   titem(`backlash at ${fmt(hot.temperature_c, 1)} °C [arcmin]`, `efficiency.thermal.precision.${th.precision.length - 1}.backlash_arcmin`,
         hot.backlash_arcmin, fmt(hot.backlash_arcmin, 3), `(${fmt(cold.backlash_arcmin, 3)} at ${cold.temperature_c} °C)`);
+  titem(`TE at ${fmt(hot.temperature_c, 1)} °C [arcsec]`, `efficiency.thermal.precision.${th.precision.length - 1}.te_peak_to_peak_arcsec`,
+        hot.te_peak_to_peak_arcsec, fmt(hot.te_peak_to_peak_arcsec, 3),
+        `(the nominal unit's peak-to-peak with its parts' expansion, against its curve at ${cold.temperature_c} °C)`);
   $("#temperature-card").replaceChildren(
     el("h3", { text: `steady case temperature: ${th.duty_cycle}`, title: "the duty cycle's heat balance (docs/efficiency.md)" }),
     el("div", {}, el("span", { class: "big", "data-key": "efficiency.thermal.steady_temperature_c",
