@@ -244,6 +244,46 @@ def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.moveaxis(out, -1, 1))
 
 
+@njit(nogil=True, cache=True)
+def mesh_column(stage, chi, out):
+    """``mesh_table`` at one crank angle chi [rad], compiled, into ``out`` (N_COEF, discs, z_p):
+    the same closed forms (curve_point), so a kernel can place the mesh anywhere between a table's
+    positions (the transmission model's production run refines its extremes there: kinematics).
+    ``stage``: StageGeometry. Equal to mesh_table's row to round-off (tested)."""
+    a, rg, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
+    for d in range(discs):
+        chi_d = chi + 2.0 * math.pi * d / discs
+        cchi, schi = math.cos(chi_d), math.sin(chi_d)
+        cang, sang = math.cos(chi_d / zc), math.sin(chi_d / zc)
+        for j in range(zp):
+            psi = 2.0 * math.pi * j / zp
+            t = chi_d - psi + 2.0 * math.pi * j
+            x, y, dx, dy, ddx, ddy = curve_point(a, rg, zc, t)
+            cross = dx * ddy - dy * ddx
+            speed = math.sqrt(dx * dx + dy * dy)
+            rho = min(speed ** 3 / max(abs(cross), 1e-300), RHO_MAX_MM)
+            lx, ly = -dy / speed, dx / speed  # the left normal
+            if cross < 0.0:
+                lx, ly = -lx, -ly
+            nx, ny = dy / speed, -dx / speed  # the outward normal (PinCentreCurve.outward_normal)
+            outward_sign = -1.0 if nx * x + ny * y < 0.0 else 1.0
+            nx, ny = nx * outward_sign, ny * outward_sign
+            out[TOOTH, d, j] = math.floor(j * zc / zp + chi_d / (2.0 * math.pi) + 0.5) % zc
+            out[T0, d, j] = t
+            out[OX, d, j] = x + rho * lx
+            out[OY, d, j] = y + rho * ly
+            out[RHO, d, j] = rho
+            out[SIDE, d, j] = 1.0 if lx * nx + ly * ny < 0.0 else -1.0
+            out[EUX, d, j] = math.cos(t / zc)
+            out[EUY, d, j] = math.sin(t / zc)
+            out[CPSI, d, j] = math.cos(psi)
+            out[SPSI, d, j] = math.sin(psi)
+            out[CCHI, d, j] = cchi
+            out[SCHI, d, j] = schi
+            out[CANG, d, j] = cang
+            out[SANG, d, j] = sang
+
+
 def _curve_d2_exact(a: float, rg: float, zc: int, t: np.ndarray) -> np.ndarray:
     """d2C/dt2 [mm/rad^2] in closed form (curve_point's, vectorised)."""
     k = 1.0 / zc
