@@ -407,7 +407,7 @@ NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a ste
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
 SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
 SWING_OFFSETS = (-1e-3, -1e-4, -1e-5, 0.0, 1e-5, 1e-4, 1e-3)  # of a step: about a solved lever zero (solved_lever_zero)
-LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 12, 1e-6  # regula falsi on the solved lever: at most, and the bracket [steps]
+LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 12, 1e-6  # regula falsi on the solved lever: at most, and the last move [steps]
 
 
 @njit(nogil=True, cache=True, inline="always")
@@ -683,8 +683,8 @@ def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n
                       memo: dict) -> float | None:
     """Where (in steps, n .. n + 1) the lever of pin ``pin`` (d z_p + j) of unit ``r`` crosses 0 on the
     solved curve: regula falsi (Illinois) from the recorded levers at positions n and n + 1 (opposite
-    signs: step_extremes), each point solved (flank_positions, its recorded gaps and levers) to within
-    LEVER_ZERO_TOL of a step. A swing can be narrower than the distance between the cubic's lever zero
+    signs: step_extremes), each point solved (flank_positions, its recorded gaps and levers), until an
+    estimate moves less than LEVER_ZERO_TOL of a step. A swing can be narrower than the distance between the cubic's lever zero
     and the solved one (issue 36 item 8, unit 83 of seed 0: a swing 1/200 of a step wide, its solved
     zero 0.008 of a step from the cubic's); it is read about this zero. None when the recorded ends
     do not bracket a zero. ``memo``: (n, pin) -> the zero, shared by the four extremes."""
@@ -697,9 +697,11 @@ def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n
     la, lb = float(run.lever_um_per_rad[n, d, j]), float(run.lever_um_per_rad[(n + 1) % rows, d, j])
     zero = None
     if la * lb < 0.0:
-        side = 0
+        side, x = 0, xa
         for _ in range(LEVER_ZERO_ITERATIONS):
-            x = xa - la * (xb - xa) / (lb - la)
+            last, x = x, xa - la * (xb - xa) / (lb - la)
+            if abs(x - last) < LEVER_ZERO_TOL:
+                break
             theta = np.array([(x % rows) * step])
             lx = float(flank_positions(g, r, theta, float(r.chi_rad) - g.zc * theta, kin, exact,
                                        record=True).lever_um_per_rad[0, d, j])
@@ -716,9 +718,7 @@ def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n
                 if side == 1:
                     la *= 0.5
                 side = 1
-            if xb - xa < LEVER_ZERO_TOL:
-                break
-        zero = 0.5 * (xa + xb)
+        zero = x  # the last estimate: an Illinois bracket need not close on both sides
     memo[(n, pin)] = zero
     return zero
 

@@ -39,7 +39,7 @@ WINDOW_EXTREMES = 2  # sampled local extremes refined by a window, for the maxim
 WINDOW_POINTS = 8  # points a step in a window (the step either side of the extreme)
 ZOOM_LEVELS = 6  # pattern-search halvings about each extreme, from 1 / WINDOW_POINTS of a step
 SWING_GAP_UM = 1.0  # a pin whose lever changes sign in a step is read if its recorded gap at either end is below
-LEVER_ITERATIONS = 4  # regula falsi steps on the solved lever of a swing's pin
+LEVER_ITERATIONS, LEVER_TOL = 10, 1e-4  # regula falsi (Illinois) on the solved lever of a swing's pin: at most; [steps]
 SWING_OFFSETS = (-1e-3, -1e-4, 0.0, 1e-4, 1e-3)  # of a step, about a swing's solved lever zero
 SWING_SOLVED_GAP_UM = 0.05  # a swing's pin whose solved gap near its lever's zero is above this does not interfere
 CUSP_OFFSETS = (-0.03, 0.0, 0.03)  # of a step, about a cusp's estimate
@@ -185,8 +185,12 @@ def refined_extreme(stage, kin, unit, ref, scratch, work, curve, sign):
                     continue
                 xa, xb, la, lb = float(n), float(n + 1), float(l0), float(l1)
                 kept = 0
+                last = -1.0
                 for it in range(LEVER_ITERATIONS):
                     x = xa - la * (xb - xa) / (lb - la)
+                    if abs(x - last) < LEVER_TOL:
+                        break
+                    last = x
                     work.points[2] += 1
                     point_te(stage, kin, unit, ref, scratch, work, x, False)
                     lx = float(work.curve.lever_um_per_rad[0, d, j])
@@ -205,7 +209,7 @@ def refined_extreme(stage, kin, unit, ref, scratch, work, curve, sign):
                         kept = -1
                 if work.curve.gap_um[0, d, j] > SWING_SOLVED_GAP_UM:
                     continue
-                z = 0.5 * (xa + xb)
+                z = xa if xa == xb else x  # the last estimate (an Illinois bracket need not close on both sides)
                 for o in SWING_OFFSETS:
                     work.points[2] += 1
                     v = sign * point_te(stage, kin, unit, ref, scratch, work, z + o, True)

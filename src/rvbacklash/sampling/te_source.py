@@ -45,8 +45,8 @@ from rvbacklash.units import ARCMIN_PER_RAD
 
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
 # The TE peak-to-peak refined between the positions (models.te_refine) is not the default yet: on the first 40
-# units of seed 3 it reads -1.5 % below the converged figure on average (the sampled one -8.0 %) but 20 units stay
-# beyond 1 %, at about 6 times the run's cost (issue 36 item 8; bench/bench_te_refine.py prints both)
+# units of seed 3 it reads -1.4 % below the converged figure on average (the sampled one -8.0 %; worst -5.6 against
+# -30.8 %) but 20 units stay beyond 1 %, at about 6 times the run's CPU (issue 36 item 8; bench/bench_te_refine.py)
 REFINE = False
 CHUNK = 256  # units drawn, then evaluated, at a time
 EVAL_THREADS = 2
@@ -229,9 +229,9 @@ class TransmissionBlockSource:
 
 
 def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
-                        save_units: int = 0, refine: bool = REFINE) -> TransmissionBlockSource:
+                        save_units: int = 0, refine: bool | None = None) -> TransmissionBlockSource:
     """The transmission-error model's block source (positions per revolution: POSITIONS_PER_PIN z_p;
-    ``refine``: each unit's TE peak-to-peak refined between them, models.te_refine)."""
+    ``refine``: each unit's TE peak-to-peak refined between them, models.te_refine; None: REFINE)."""
 
     if method != "default":
         raise InputError("method", method, "allowed with the transmission-error model: default")
@@ -241,7 +241,8 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     ref = reference_revolution(problem, n, 0.0, exact=False)
     kin_laws = KinematicLaws(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
     kin = kinematics(problem)
-    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), bool(refine))
+    refine = REFINE if refine is None else bool(refine)
+    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine)
     return TransmissionBlockSource(c, kin_laws, kin, position_table(g, n, 0.0), reference, TE_OUTPUTS,
                                    save_units=int(save_units))
 
