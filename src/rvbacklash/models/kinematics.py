@@ -407,7 +407,7 @@ NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a ste
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
 SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
 SWING_OFFSETS = (-1e-3, -1e-4, -1e-5, 0.0, 1e-5, 1e-4, 1e-3)  # of a step: about a solved lever zero (solved_lever_zero)
-LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 12, 1e-6  # regula falsi on the solved lever: at most, and the last move [steps]
+LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 8, 1e-5  # regula falsi on the solved lever: at most, and the last move [steps]
 
 
 @njit(nogil=True, cache=True, inline="always")
@@ -666,7 +666,7 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
         for k in np.flatnonzero(est.swing_value[i] > best[i]):
             x = float(k + est.swing_at[i, k])
             points += [x - SWING_SIDE, x + SWING_SIDE] + [x + o for o in NEAR_OFFSETS]
-            z = solved_lever_zero(g, r, kin, run, int(k), int(est.swing_pin[i, k]), exact, zeros)
+            z = solved_lever_zero(g, r, kin, run, int(k), int(est.swing_pin[i, k]), zeros)
             if z is not None:  # the solved lever's zero: a swing narrower than the offsets above (unit 83)
                 points += [z + o for o in SWING_OFFSETS]
         first.append(points)
@@ -679,14 +679,15 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
     return (-best[1], best[0]), (-best[3], best[2])
 
 
-def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n: int, pin: int, exact: bool,
+def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n: int, pin: int,
                       memo: dict) -> float | None:
     """Where (in steps, n .. n + 1) the lever of pin ``pin`` (d z_p + j) of unit ``r`` crosses 0 on the
     solved curve: regula falsi (Illinois) from the recorded levers at positions n and n + 1 (opposite
-    signs: step_extremes), each point solved (flank_positions, its recorded gaps and levers), until an
-    estimate moves less than LEVER_ZERO_TOL of a step. A swing can be narrower than the distance between the cubic's lever zero
-    and the solved one (issue 36 item 8, unit 83 of seed 0: a swing 1/200 of a step wide, its solved
-    zero 0.008 of a step from the cubic's); it is read about this zero. None when the recorded ends
+    signs: step_extremes), the lever at each point from the pins' linearised gaps there (flank_positions,
+    recorded), until an estimate moves less than LEVER_ZERO_TOL of a step. A swing can be narrower than
+    the distance between the cubic's lever zero and the solved one (issue 36 item 8, unit 83 of seed 0:
+    a swing 1/200 of a step wide, its solved zero 0.008 of a step from the cubic's); it is read about
+    this zero. None when the recorded ends
     do not bracket a zero. ``memo``: (n, pin) -> the zero, shared by the four extremes."""
     if (n, pin) in memo:
         return memo[(n, pin)]
@@ -703,7 +704,9 @@ def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n
             if abs(x - last) < LEVER_ZERO_TOL:
                 break
             theta = np.array([(x % rows) * step])
-            lx = float(flank_positions(g, r, theta, float(r.chi_rad) - g.zc * theta, kin, exact,
+            # the pins' levers at the assembled position: the same linearisation whether or not the flanks
+            # are then solved exactly (te_curve records unit_gaps' either way), so the fast path is enough
+            lx = float(flank_positions(g, r, theta, float(r.chi_rad) - g.zc * theta, kin, False,
                                        record=True).lever_um_per_rad[0, d, j])
             if lx == 0.0:
                 xa = xb = x
