@@ -74,6 +74,12 @@ def main() -> None:
           f"{run.mean():+.2%}, from {run.min():+.2%} to {run.max():+.2%}")
     print(f"CPU per unit at {a.coarse} positions: sampled curve {cpu_sampled / a.units * 1e3:.1f} ms, "
           f"refined figure (transmission-error without the group shares) {cpu_refined / a.units * 1e3:.1f} ms")
+    # the hardest unit found (issue 36 item 8): a swing 1/200 of a step wide (kinematics.solved_lever_zero)
+    hard = sample_units(p, 0, 84)[83]
+    coarse, fine = (transmission_error(p, hard, "seed 0 unit 83", n, shares=False).te_peak_to_peak_arcsec
+                    for n in (a.coarse, 4096))
+    print(f"seed 0, unit 83 (a swing 1/200 of a step wide): {coarse:.2f} at {a.coarse} against {fine:.2f} at 4096 "
+          f"positions ({coarse / fine - 1:+.2%}; before the solved lever zero: 45.14 against 49.79)")
 
 
 if __name__ == "__main__":

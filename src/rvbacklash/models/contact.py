@@ -244,6 +244,65 @@ def mesh_table(g: ContactGeometry, chis: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.moveaxis(out, -1, 1))
 
 
+@njit(nogil=True, cache=True)
+def mesh_column(stage, chi, out):
+    """``mesh_table`` at one crank angle chi [rad], compiled, into ``out`` (N_COEF, discs, z_p):
+    the same closed forms, so a kernel can place the mesh anywhere between a table's positions (the
+    transmission model's production run refines its extremes there: models.te_refine). Equal to
+    mesh_table's row to round-off (tested). The angles are built by angle addition from the disc's
+    and the pins' (t = chi_d - psi_j + 2 pi j: cos t = cos(chi_d - psi_j); t / z_c = chi_d / z_c +
+    (2 pi j - psi_j) / z_c), so a column costs 2 z_p + 4 discs sines and cosines, not 8 z_p discs.
+    ``stage``: StageGeometry."""
+    a, rg, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
+    k = 1.0 / zc
+    for j in range(zp):
+        psi = 2.0 * math.pi * j / zp
+        out[CPSI, 0, j] = math.cos(psi)
+        out[SPSI, 0, j] = math.sin(psi)
+        w = (2.0 * math.pi * j - psi) / zc  # = psi when z_p = z_c + 1
+        out[EUX, 0, j] = math.cos(w)  # scratch: cos and sin of w, replaced below
+        out[EUY, 0, j] = math.sin(w)
+    for d in range(discs - 1, -1, -1):  # disc 0 last: its rows held the pins' angles
+        chi_d = chi + 2.0 * math.pi * d / discs
+        cchi, schi = math.cos(chi_d), math.sin(chi_d)
+        cang, sang = math.cos(chi_d / zc), math.sin(chi_d / zc)
+        for j in range(zp):
+            cpsi, spsi, cw, sw = out[CPSI, 0, j], out[SPSI, 0, j], out[EUX, 0, j], out[EUY, 0, j]
+            ct, st = cchi * cpsi + schi * spsi, schi * cpsi - cchi * spsi  # t = chi_d - psi_j (mod 2 pi)
+            cu, su = cang * cw - sang * sw, sang * cw + cang * sw  # u = t / z_c
+            bx, by = rg - a * ct, -a * st  # curve_point's closed forms
+            dbx, dby = a * st, -a * ct
+            ddbx, ddby = a * ct, a * st
+            x, y = cu * bx - su * by, su * bx + cu * by
+            px, py = dbx - k * by, dby + k * bx
+            qx, qy = ddbx - 2 * k * dby - k * k * bx, ddby + 2 * k * dbx - k * k * by
+            dx, dy = cu * px - su * py, su * px + cu * py
+            ddx, ddy = cu * qx - su * qy, su * qx + cu * qy
+            cross = dx * ddy - dy * ddx
+            speed = math.sqrt(dx * dx + dy * dy)
+            rho = min(speed ** 3 / max(abs(cross), 1e-300), RHO_MAX_MM)
+            lx, ly = -dy / speed, dx / speed  # the left normal, towards the centre of curvature
+            if cross < 0.0:
+                lx, ly = -lx, -ly
+            nx, ny = dy / speed, -dx / speed  # the outward normal (PinCentreCurve.outward_normal)
+            if nx * x + ny * y < 0.0:
+                nx, ny = -nx, -ny
+            out[TOOTH, d, j] = math.floor(j * zc / zp + chi_d / (2.0 * math.pi) + 0.5) % zc
+            out[T0, d, j] = chi_d - 2.0 * math.pi * j / zp + 2.0 * math.pi * j
+            out[OX, d, j] = x + rho * lx
+            out[OY, d, j] = y + rho * ly
+            out[RHO, d, j] = rho
+            out[SIDE, d, j] = 1.0 if lx * nx + ly * ny < 0.0 else -1.0
+            out[EUX, d, j] = cu
+            out[EUY, d, j] = su
+            out[CPSI, d, j] = cpsi
+            out[SPSI, d, j] = spsi
+            out[CCHI, d, j] = cchi
+            out[SCHI, d, j] = schi
+            out[CANG, d, j] = cang
+            out[SANG, d, j] = sang
+
+
 def _curve_d2_exact(a: float, rg: float, zc: int, t: np.ndarray) -> np.ndarray:
     """d2C/dt2 [mm/rad^2] in closed form (curve_point's, vectorised)."""
     k = 1.0 / zc

@@ -406,6 +406,8 @@ STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
 NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
 SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
+SWING_OFFSETS = (-1e-3, -1e-4, -1e-5, 0.0, 1e-5, 1e-4, 1e-3)  # of a step: about a solved lever zero (solved_lever_zero)
+LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 8, 1e-5  # regula falsi on the solved lever: at most, and the last move [steps]
 
 
 @njit(nogil=True, cache=True, inline="always")
@@ -520,10 +522,12 @@ class StepEstimates(NamedTuple):
     at: np.ndarray
     swing_value: np.ndarray
     swing_at: np.ndarray
+    swing_pin: np.ndarray  # the swing's pin, d z_p + j (-1: none)
 
 
 def step_estimates(n: int) -> StepEstimates:
-    return StepEstimates(np.empty((4, n)), np.empty((4, n)), np.empty((4, n)), np.empty((4, n)))
+    return StepEstimates(np.empty((4, n)), np.empty((4, n)), np.empty((4, n)), np.empty((4, n)),
+                         np.empty((4, n), np.int64))
 
 
 @njit(nogil=True, cache=True)
@@ -563,13 +567,14 @@ def step_extremes(run, ref, azc_um, out):
     points = ref.between_rad.shape[2]
     gaps = pin_gaps(discs, zp)
     fs = np.empty(points - 1 + 2 * discs * zp)
-    value, at, swing_value, swing_at = out.value, out.at, out.swing_value, out.swing_at
+    value, at, swing_value, swing_at, swing_pin = out.value, out.at, out.swing_value, out.swing_at, out.swing_pin
     for n in range(rows):
         for i in range(4):
             value[i, n] = -np.inf
             at[i, n] = 0.5
             swing_value[i, n] = -np.inf
             swing_at[i, n] = 0.5
+            swing_pin[i, n] = -1
         m = 0
         for s in range(1, points):
             fs[m] = s / points
@@ -591,6 +596,7 @@ def step_extremes(run, ref, azc_um, out):
                             if math.isfinite(v) and v > swing_value[i, n]:
                                 swing_value[i, n] = v
                                 swing_at[i, n] = f0
+                                swing_pin[i, n] = d * zp + j
         for k in range(m):
             f = fs[k]
             c, w = interpolated_flanks(run, n, f, azc_um, gaps)
@@ -633,6 +639,7 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
     step = 2.0 * math.pi / n
 
     solved: dict[float, tuple[float, float]] = {}  # a point (in steps) -> TE of both flanks there
+    zeros: dict[tuple[int, int], float | None] = {}  # (step, pin) -> its solved lever's zero (solved_lever_zero)
 
     def solve(points: list[list[float]]) -> None:
         """Solve the curve at each goal's points (in steps) not solved yet (the pattern search's next
@@ -659,6 +666,9 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
         for k in np.flatnonzero(est.swing_value[i] > best[i]):
             x = float(k + est.swing_at[i, k])
             points += [x - SWING_SIDE, x + SWING_SIDE] + [x + o for o in NEAR_OFFSETS]
+            z = solved_lever_zero(g, r, kin, run, int(k), int(est.swing_pin[i, k]), zeros)
+            if z is not None:  # the solved lever's zero: a swing narrower than the offsets above (unit 83)
+                points += [z + o for o in SWING_OFFSETS]
         first.append(points)
     solve(first)
     # a pattern search about each extreme found: a cusp or a swing's end to within a small part of a step
@@ -667,6 +677,53 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
         solve([[float(where[i] + o * d) for o in (-1.0, -0.5, 0.5, 1.0)] for i in range(4)])
         d *= 0.5
     return (-best[1], best[0]), (-best[3], best[2])
+
+
+def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n: int, pin: int,
+                      memo: dict) -> float | None:
+    """Where (in steps, n .. n + 1) the lever of pin ``pin`` (d z_p + j) of unit ``r`` crosses 0 on the
+    solved curve: regula falsi (Illinois) from the recorded levers at positions n and n + 1 (opposite
+    signs: step_extremes), the lever at each point from the pins' linearised gaps there (flank_positions,
+    recorded), until an estimate moves less than LEVER_ZERO_TOL of a step. A swing can be narrower than
+    the distance between the cubic's lever zero and the solved one (issue 36 item 8, unit 83 of seed 0:
+    a swing 1/200 of a step wide, its solved zero 0.008 of a step from the cubic's); it is read about
+    this zero. None when the recorded ends
+    do not bracket a zero. ``memo``: (n, pin) -> the zero, shared by the four extremes."""
+    if (n, pin) in memo:
+        return memo[(n, pin)]
+    rows = run.lever_um_per_rad.shape[0]
+    d, j = divmod(pin, g.zp)
+    step = 2.0 * math.pi / rows
+    xa, xb = float(n), float(n + 1)
+    la, lb = float(run.lever_um_per_rad[n, d, j]), float(run.lever_um_per_rad[(n + 1) % rows, d, j])
+    zero = None
+    if la * lb < 0.0:
+        side, x = 0, xa
+        for _ in range(LEVER_ZERO_ITERATIONS):
+            last, x = x, xa - la * (xb - xa) / (lb - la)
+            if abs(x - last) < LEVER_ZERO_TOL:
+                break
+            theta = np.array([(x % rows) * step])
+            # the pins' levers at the assembled position: the same linearisation whether or not the flanks
+            # are then solved exactly (te_curve records unit_gaps' either way), so the fast path is enough
+            lx = float(flank_positions(g, r, theta, float(r.chi_rad) - g.zc * theta, kin, False,
+                                       record=True).lever_um_per_rad[0, d, j])
+            if lx == 0.0:
+                xa = xb = x
+                break
+            if (lx > 0.0) == (la > 0.0):
+                xa, la = x, lx
+                if side == -1:
+                    lb *= 0.5  # Illinois: the end that stays put is halved
+                side = -1
+            else:
+                xb, lb = x, lx
+                if side == 1:
+                    la *= 0.5
+                side = 1
+        zero = x  # the last estimate: an Illinois bracket need not close on both sides
+    memo[(n, pin)] = zero
+    return zero
 
 
 def kinematics(problem: Problem) -> Kinematics:

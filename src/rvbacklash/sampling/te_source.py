@@ -28,9 +28,10 @@ from rvbacklash.factors.catalog import KINEMATIC_FACTORS
 from rvbacklash.errors import InputError
 from rvbacklash.interrupt import check_abandoned
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, Kinematics, PositionTable, curve_scratch,
-                                          kinematics, position_table, reference_revolution, te_curve)
+                                          kinematics, perfect_unit, position_table, reference_revolution, te_curve)
+from rvbacklash.models.te_refine import TEReference, point_work, refined_extreme
 from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, empty_units, realization_at, store_unit,
-                                           unit_at)
+                                           unit_at, unit_errors)
 from rvbacklash.problem import Problem
 from rvbacklash.problem.kinematic_errors import kinematic_zones
 from rvbacklash.sampling.chunked import draw_then_evaluate
@@ -43,6 +44,10 @@ from rvbacklash.sampling.unit_draw import N_STREAMS, _normal, draw_scratch, draw
 from rvbacklash.units import ARCMIN_PER_RAD
 
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
+# The TE peak-to-peak refined between the positions (models.te_refine) is not the default yet: on the first 40
+# units of seed 3 it reads -1.4 % below the converged figure on average (the sampled one -8.0 %; worst -5.6 against
+# -30.8 %) but 20 units stay beyond 1 %, at about 6 times the run's CPU (issue 36 item 8; bench/bench_te_refine.py)
+REFINE = False
 CHUNK = 256  # units drawn, then evaluated, at a time
 EVAL_THREADS = 2
 
@@ -130,30 +135,42 @@ def draw_kinematic(kin_streams, kin_laws, unit):
 
 
 @njit(nogil=True, cache=True)
-def evaluate_chunk(stage, kin, table, batch, ref_ccw, out, saved):
+def evaluate_chunk(stage, kin, table, batch, ref, out, saved):
     """TE_OUTPUTS of the units of ``batch`` (TEBatch) into out (3, m): StageGeometry ``stage``, the
-    design's Kinematics ``kin``, the PositionTable of the positions, the error-free unit's ccw flank
-    there (``ref_ccw``); the cycloid stage of the first units into ``saved`` (SavedUnits:
-    its rigid lost motion at the reference position [arcmin], 0 where preloaded)."""
+    design's Kinematics ``kin``, the PositionTable of the positions, the error-free unit
+    (``ref``: TEReference, its ccw flank there); the cycloid stage of the first units into ``saved``
+    (SavedUnits: its rigid lost motion at the reference position [arcmin], 0 where preloaded). The TE
+    peak-to-peak: the curve's at the positions, or refined between them when ref.refine
+    (te_refine.refined_extreme; not the default: docs/transmission-error.md, "The production run")."""
     n = table.chi_rad.size
     scratch = curve_scratch(stage.zp, stage.zc, stage.discs, kin.planets)
-    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n), np.empty((0, stage.discs, stage.zp), np.float32),
-                       np.empty((0, stage.discs, stage.zp), np.float32))  # nothing recorded: sampled p-p
+    rows = n if ref.refine else 0  # the pins' gaps and levers recorded: where to refine
+    curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n), np.empty((rows, stage.discs, stage.zp), np.float32),
+                       np.empty((rows, stage.discs, stage.zp), np.float32))
+    work = point_work(stage, kin.planets)
     ccw, cw = curve.ccw_rad, curve.cw_rad
     lin = batch.linear_arcmin
     for s in range(lin.size):
-        te_curve(stage, kin, table, unit_at(batch.units, s), 0.0, scratch, curve, False)
-        lo, hi, lm_max = np.inf, -np.inf, 0.0
+        unit = unit_at(batch.units, s)
+        te_curve(stage, kin, table, unit, 0.0, scratch, curve, False)
+        lm_max = 0.0
         for k in range(n):
-            v = ccw[k] - ref_ccw[k]
-            lo = min(lo, v)
-            hi = max(hi, v)
             lm_max = max(lm_max, ccw[k] - cw[k])
         cycloid = (ccw[0] - cw[0]) * ARCMIN_PER_RAD
         out[0, s] = lin[s] + cycloid
         if s < saved.cycloid_stage.size:
             saved.cycloid_stage[s] = cycloid
-        out[1, s] = (hi - lo) * ARCSEC_PER_RAD
+        if ref.refine:
+            hi = refined_extreme(stage, kin, unit, ref, scratch, work, curve, 1.0)
+            lo = refined_extreme(stage, kin, unit, ref, scratch, work, curve, -1.0)
+        else:
+            lo, hi = np.inf, -np.inf
+            for k in range(n):
+                v = ccw[k] - ref.ccw_rad[k]
+                lo = min(lo, v)
+                hi = max(hi, v)
+            lo = -lo
+        out[1, s] = (hi + lo) * ARCSEC_PER_RAD
         out[2, s] = lin[s] + lm_max * ARCMIN_PER_RAD
 
 
@@ -165,7 +182,7 @@ class TransmissionBlockSource:
     kin_laws: KinematicLaws
     kinematics: Kinematics
     table: PositionTable  # the output positions
-    ref_ccw_rad: np.ndarray  # the error-free unit's ccw flank at the positions
+    reference: TEReference  # the error-free unit: its ccw flank at the positions, its errors
     outputs: tuple[Output, ...] = TE_OUTPUTS
     block_size: int = BLOCK_UNITS  # the contact model's blocks: the same units
     save_units: int = 0  # record the errors of the first units of the run (kinematic errors included)
@@ -179,7 +196,7 @@ class TransmissionBlockSource:
         return batch
 
     def _evaluate(self, batch: TEBatch, out: np.ndarray, saved: SavedUnits | None = None) -> None:
-        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.ref_ccw_rad, out,
+        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.reference, out,
                        saved if saved is not None else self._no_saving)
 
     @property
@@ -212,8 +229,9 @@ class TransmissionBlockSource:
 
 
 def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[int, ...] = (),
-                        save_units: int = 0) -> TransmissionBlockSource:
-    """The transmission-error model's block source (positions per revolution: POSITIONS_PER_PIN z_p)."""
+                        save_units: int = 0, refine: bool | None = None) -> TransmissionBlockSource:
+    """The transmission-error model's block source (positions per revolution: POSITIONS_PER_PIN z_p;
+    ``refine``: each unit's TE peak-to-peak refined between them, models.te_refine; None: REFINE)."""
 
     if method != "default":
         raise InputError("method", method, "allowed with the transmission-error model: default")
@@ -222,7 +240,10 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     n = POSITIONS_PER_PIN * g.zp
     ref = reference_revolution(problem, n, 0.0, exact=False)
     kin_laws = KinematicLaws(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
-    return TransmissionBlockSource(c, kin_laws, kinematics(problem), position_table(g, n, 0.0), ref.ccw_rad, TE_OUTPUTS,
+    kin = kinematics(problem)
+    refine = REFINE if refine is None else bool(refine)
+    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine)
+    return TransmissionBlockSource(c, kin_laws, kin, position_table(g, n, 0.0), reference, TE_OUTPUTS,
                                    save_units=int(save_units))
 
 
