@@ -63,7 +63,8 @@ def test_the_loop_is_closed_and_runs_the_cycle(nominal):
     # centred: the middle of the zero-torque width is 0
     assert b["unload+"].angle_arcmin[-1] + b["unload-"].angle_arcmin[-1] == pytest.approx(0.0, abs=1e-12)
     # with friction the output sticks at the turning point: the first nodes of unload+ hold the angle
-    assert b["unload+"].angle_arcmin[1] == b["unload+"].angle_arcmin[0]
+    # (to round-off: a kernel compiled in another variant may order a sum differently, 1 ulp seen)
+    assert b["unload+"].angle_arcmin[1] == pytest.approx(b["unload+"].angle_arcmin[0], rel=0, abs=1e-12)
 
 
 def test_nominal_rv80e_figures_hang_together(nominal, problem):
