@@ -46,7 +46,8 @@ from rvbacklash.units import ARCMIN_PER_RAD
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
 # The TE peak-to-peak refined between the positions (models.te_refine) is not the default yet: on the first 40
 # units of seed 3 it reads -1.4 % below the converged figure on average (the sampled one -8.0 %; worst -5.6 against
-# -30.8 %) but 20 units stay beyond 1 %, at about 6 times the run's CPU (issue 36 item 8; bench/bench_te_refine.py)
+# -30.8 %) but 20 units stay beyond 1 %, at 5 times the CPU of a 4000-unit run (13.6 against 2.7 s;
+# issue 36 item 8, bench/bench_te_refine.py)
 REFINE = False
 CHUNK = 256  # units drawn, then evaluated, at a time
 EVAL_THREADS = 2
