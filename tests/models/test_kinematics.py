@@ -267,3 +267,54 @@ def test_a_preloaded_stage_rests_where_its_pins_forces_balance(problem):
         grid = beta + np.linspace(-2e-6, 2e-6, 4001)
         energy = (np.maximum(0.0, lever.ravel()[None, :] * grid[:, None] - gap.ravel()[None, :]) ** 2).sum(axis=1)
         assert abs(grid[np.argmin(energy)] - beta) <= 1e-9
+
+
+def _freeing_point(problem, unit, lo_step, hi_step, n=1024):
+    """The flanks [arcsec] on either side of the point nearest the middle of lo_step .. hi_step (steps
+    of n a revolution) where the unit's stage goes from preloaded (both flanks at one rotation) to
+    free: found on 201 points, then bisection to 1e-13 rad of output angle. ((ccw, cw) preloaded, (ccw, cw) free)."""
+    from rvbacklash.models import kinematics as km
+
+    g, kin, chi0 = problem.cycloid, kinematics(problem), float(unit.chi_rad)
+
+    def at(step):
+        theta = np.array([2 * math.pi * step / n])
+        c = km.flank_positions(g, unit, theta, chi0 - g.zc * theta, kin)
+        return float(c.ccw_rad[0]) * ARCSEC_PER_RAD, float(c.cw_rad[0]) * ARCSEC_PER_RAD
+
+    grid = np.linspace(lo_step, hi_step, 201)
+    rested = [f[0] == f[1] for f in map(at, grid)]
+    changes = [i for i in range(200) if rested[i] != rested[i + 1]]
+    assert changes, (lo_step, hi_step)  # one side preloaded, the other free
+    i = min(changes, key=lambda i: abs(grid[i] - 0.5 * (lo_step + hi_step)))  # the one nearest the middle
+    a, b = grid[i], grid[i + 1]
+    fa, fb = at(a), at(b)
+    while (b - a) * 2 * math.pi / n > 1e-13:
+        m = 0.5 * (a + b)
+        fm = at(m)
+        if (fm[0] == fm[1]) == (fa[0] == fa[1]):
+            a, fa = m, fm
+        else:
+            b, fb = m, fm
+    return (fa, fb) if fa[0] == fa[1] else (fb, fa)
+
+
+def test_a_preloaded_stage_rests_where_it_frees(problem):
+    """Issue 36 item 8, what was left: the per-unit curve placed a preloaded stage at the balanced
+    rotation of the gaps linearised at the assembled position, and a free one at its first contacts on
+    the exact curve; where the stage frees the two did not meet. Across the freeing point (found by
+    bisection to 1e-13 rad) the flanks jumped 5.48 arcsec (seed 0, unit 1, step 946.52 of 1024), 0.61
+    (unit 2, step 49.24), 5.54 and 4.57 (unit 3, steps 102.47 and 126.81): the linearised gaps miss a
+    pin facing a tooth tip by up to tenths of a um. The stage now rests on the exact gaps
+    (kinematics.exact_rest): both flanks meet the rest within 0.01 arcsec. Where the pin that lets go
+    has no lever (it presses the disc radially), the play opens at once to what the other pins leave:
+    the rest still meets one flank (unit 1, step 746.39: 3.2 arcsec away before, the other flank opens
+    by 3.3 arcsec)."""
+    from rvbacklash.sampling.te_source import sample_units
+
+    units = sample_units(problem, 0, 4)
+    for k, step in ((1, 946.5196), (2, 49.2401), (3, 102.466), (3, 126.8073)):
+        (rest, _), (ccw, cw) = _freeing_point(problem, units[k], step - 1e-3, step + 1e-3)
+        assert abs(ccw - rest) < 0.01 and abs(cw - rest) < 0.01, (k, step, rest, ccw, cw)
+    (rest, _), (ccw, cw) = _freeing_point(problem, units[1], 746.388, 746.390)
+    assert min(abs(ccw - rest), abs(cw - rest)) < 0.01, (rest, ccw, cw)
