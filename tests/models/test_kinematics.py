@@ -299,17 +299,20 @@ def _freeing_point(problem, unit, lo_step, hi_step, n=1024):
     return (fa, fb) if fa[0] == fa[1] else (fb, fa)
 
 
+@pytest.mark.xfail(strict=True, reason="issue 36 item 8, open: the rest is solved on the linearised gaps "
+                   "(docs/transmission-error.md, 'The cycloid stage's play'); the exact rest of commit d856598 "
+                   "passes this test but breaks the convergence in positions")
 def test_a_preloaded_stage_rests_where_it_frees(problem):
-    """Issue 36 item 8, what was left: the per-unit curve placed a preloaded stage at the balanced
+    """Issue 36 item 8, what is left: the per-unit curve places a preloaded stage at the balanced
     rotation of the gaps linearised at the assembled position, and a free one at its first contacts on
-    the exact curve; where the stage frees the two did not meet. Across the freeing point (found by
-    bisection to 1e-13 rad) the flanks jumped 5.48 arcsec (seed 0, unit 1, step 946.52 of 1024), 0.61
+    the exact curve; where the stage frees the two do not meet. Across the freeing point (found by
+    bisection to 1e-13 rad) the flanks jump 5.48 arcsec (seed 0, unit 1, step 946.52 of 1024), 0.61
     (unit 2, step 49.24), 5.54 and 4.57 (unit 3, steps 102.47 and 126.81): the linearised gaps miss a
-    pin facing a tooth tip by up to tenths of a um. The stage now rests on the exact gaps
-    (kinematics.exact_rest): both flanks meet the rest within 0.01 arcsec. Where the pin that lets go
-    has no lever (it presses the disc radially), the play opens at once to what the other pins leave:
-    the rest still meets one flank (unit 1, step 746.39: 3.2 arcsec away before, the other flank opens
-    by 3.3 arcsec)."""
+    pin facing a tooth tip by up to tenths of a um (its gap bends with a radius of ~0.13 mm). Solved on
+    the exact gaps (kinematics.exact_rest, commit d856598) both flanks meet the rest within 0.01
+    arcsec; where the pin that lets go has no lever (it presses the disc radially) the play opens at
+    once to what the other pins leave and the rest meets one flank (unit 1, step 746.39: 3.2 arcsec
+    away on the linearised gaps; the other flank opens by 3.3 arcsec)."""
     from rvbacklash.sampling.te_source import sample_units
 
     units = sample_units(problem, 0, 4)
