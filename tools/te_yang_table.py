@@ -13,7 +13,11 @@ prints them, asserts nothing.
    1024 positions, the figure refined between them, converged in positions): their mean against the
    run's own figure of the same units (the run reads the linearised curve sampled at 8 z_p = 320
    positions), the mean amplitude spectrum by order (ccw flank) and the median variance share of
-   each error group (each switched off in turn).
+   each error group (each switched off in turn);
+3. the spectrum checks (``--spectrum-units``, 40: the first units of the same seed, exact geometry, 1024
+   positions, ccw flank): the mean amplitude at orders 1, z_c and z_p with every error, with the pins'
+   errors switched off, and with the disc run-out and crank eccentricity switched off
+   (``--only-spectrum-checks``: this part alone).
 """
 
 from __future__ import annotations
@@ -26,7 +30,12 @@ def main() -> None:
     ap.add_argument("--samples", type=int, default=10_000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--exact-units", type=int, default=120)
+    ap.add_argument("--spectrum-units", type=int, default=40)
+    ap.add_argument("--only-spectrum-checks", action="store_true")
     a = ap.parse_args()
+    if a.only_spectrum_checks:
+        spectrum_checks(a.seed, a.spectrum_units)
+        return
     import numpy as np
 
     import rvbacklash as rb
@@ -67,6 +76,30 @@ def main() -> None:
         for s in e.group_shares:
             groups.setdefault(s.group, []).append(s.variance_share)
     print("  median variance share by group: " + ", ".join(f"{g} {np.median(v):.2f}" for g, v in groups.items()))
+    spectrum_checks(a.seed, a.spectrum_units)
+
+
+def spectrum_checks(seed: int, count: int) -> None:
+    """The mean amplitude [arcsec] at orders 1, z_c and z_p (ccw flank, exact geometry, 1024 positions)
+    of the first ``count`` units of the seed's run: with every error, without the pins' errors, and
+    without the disc run-out and crank eccentricity (analysis.transmission.GROUPS)."""
+    import numpy as np
+
+    import rvbacklash as rb
+    from rvbacklash.analysis.transmission import _without, perfect_unit, transmission_error
+    from rvbacklash.sampling.te_source import sample_units
+
+    p = rb.prepare("rv80e")
+    zc, zp = p.cycloid.zc, p.cycloid.zp
+    units = sample_units(p, seed, count)
+    cases = {"every error": None, "pins off": "pins (position, radius, hole clearance)",
+             "run-out and crank eccentricity off": "disc run-out and crank eccentricity"}
+    print(f"spectrum checks, first {count} units of seed {seed} (mean amplitude [arcsec], ccw flank, 1024 positions):")
+    for name, group in cases.items():
+        amp = np.mean([transmission_error(p, u if group is None else _without(u, perfect_unit(p, u.chi_rad), group),
+                                          f"unit {k}", 1024, shares=False).spectrum_amplitude_arcsec
+                       for k, u in enumerate(units)], axis=0)
+        print(f"  {name}: order 1 {amp[1]:.2f}, order {zc} {amp[zc]:.2f}, order {zp} {amp[zp]:.2f}")
 
 
 if __name__ == "__main__":
