@@ -81,3 +81,16 @@ def test_the_error_free_unit_between_positions_is_its_solved_flank(problem):
     # the line between the run's positions alone misses it by more
     coarse = np.interp(xs, np.arange(rows + 1), np.append(ref.ccw_rad, ref.ccw_rad[0]))
     assert np.abs(coarse - solved).max() * ARCSEC_PER_RAD > 2 * fine
+
+
+def test_the_refined_run_is_the_same_on_any_thread_count(problem, monkeypatch):
+    """The refinement's scratch is each evaluation's own and the error-free unit's points are read-only: the
+    refined figures of a block do not depend on the threads or the chunks that evaluate it."""
+    from rvbacklash.sampling import te_source
+
+    a = transmission_source(problem, "default", 7, refine=True).block(1, 24)
+    monkeypatch.setattr(te_source, "EVAL_THREADS", 1)
+    monkeypatch.setattr(te_source, "CHUNK", 5)
+    b = transmission_source(problem, "default", 7, refine=True).block(1, 24)
+    np.testing.assert_array_equal(a, b)
+    assert np.all(a[1] >= transmission_source(problem, "default", 7, refine=False).block(1, 24)[1])
