@@ -251,23 +251,39 @@ def mesh_column(stage, chi, out):
     transmission model's production run refines its extremes there: models.te_refine). Equal to
     mesh_table's row to round-off (tested). The angles are built by angle addition from the disc's
     and the pins' (t = chi_d - psi_j + 2 pi j: cos t = cos(chi_d - psi_j); t / z_c = chi_d / z_c +
-    (2 pi j - psi_j) / z_c), so a column costs 2 z_p + 4 discs sines and cosines, not 8 z_p discs.
+    (2 pi j - psi_j) / z_c), so a column costs 2 z_p + 4 discs sines and cosines, not 8 z_p discs;
+    ``mesh_column_at`` takes the pins' (mesh_pin_angles) computed once: 4 discs.
     ``stage``: StageGeometry."""
-    a, rg, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
-    k = 1.0 / zc
+    pins = np.empty((4, stage.zp))
+    mesh_pin_angles(stage, pins)
+    mesh_column_at(stage, chi, pins, out)
+
+
+@njit(nogil=True, cache=True)
+def mesh_pin_angles(stage, pins):
+    """What of ``mesh_column`` does not depend on the crank angle, into ``pins`` (4, z_p): cos and sin of
+    each pin's angle psi_j = 2 pi j / z_p and of w_j = (2 pi j - psi_j) / z_c."""
+    zc, zp = stage.zc, stage.zp
     for j in range(zp):
         psi = 2.0 * math.pi * j / zp
-        out[CPSI, 0, j] = math.cos(psi)
-        out[SPSI, 0, j] = math.sin(psi)
+        pins[0, j] = math.cos(psi)
+        pins[1, j] = math.sin(psi)
         w = (2.0 * math.pi * j - psi) / zc  # = psi when z_p = z_c + 1
-        out[EUX, 0, j] = math.cos(w)  # scratch: cos and sin of w, replaced below
-        out[EUY, 0, j] = math.sin(w)
-    for d in range(discs - 1, -1, -1):  # disc 0 last: its rows held the pins' angles
+        pins[2, j] = math.cos(w)
+        pins[3, j] = math.sin(w)
+
+
+@njit(nogil=True, cache=True)
+def mesh_column_at(stage, chi, pins, out):
+    """``mesh_column`` with the pins' angles given (``pins``: mesh_pin_angles)."""
+    a, rg, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
+    k = 1.0 / zc
+    for d in range(discs):
         chi_d = chi + 2.0 * math.pi * d / discs
         cchi, schi = math.cos(chi_d), math.sin(chi_d)
         cang, sang = math.cos(chi_d / zc), math.sin(chi_d / zc)
         for j in range(zp):
-            cpsi, spsi, cw, sw = out[CPSI, 0, j], out[SPSI, 0, j], out[EUX, 0, j], out[EUY, 0, j]
+            cpsi, spsi, cw, sw = pins[0, j], pins[1, j], pins[2, j], pins[3, j]
             ct, st = cchi * cpsi + schi * spsi, schi * cpsi - cchi * spsi  # t = chi_d - psi_j (mod 2 pi)
             cu, su = cang * cw - sang * sw, sang * cw + cang * sw  # u = t / z_c
             bx, by = rg - a * ct, -a * st  # curve_point's closed forms

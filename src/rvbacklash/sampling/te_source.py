@@ -29,7 +29,7 @@ from rvbacklash.errors import InputError
 from rvbacklash.interrupt import check_abandoned
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, Kinematics, PositionTable, curve_scratch,
                                           kinematics, perfect_unit, position_table, reference_revolution, te_curve)
-from rvbacklash.models.te_refine import TEReference, point_work, refined_extreme
+from rvbacklash.models.te_refine import REFERENCE_POINTS, TEReference, point_work, reference_between, refined_peak_to_peak
 from rvbacklash.models.unit_errors import (Realization, UnitErrors, empty_unit, empty_units, realization_at, store_unit,
                                            unit_at, unit_errors)
 from rvbacklash.problem import Problem
@@ -45,9 +45,9 @@ from rvbacklash.units import ARCMIN_PER_RAD
 
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
 # The TE peak-to-peak refined between the positions (models.te_refine) is not the default yet: on the first 40
-# units of seed 3 it reads -1.4 % below the converged figure on average (the sampled one -8.0 %; worst -5.6 against
-# -30.8 %) but 20 units stay beyond 1 %, at 5 times the CPU of a 4000-unit run (13.6 against 2.7 s;
-# issue 36 item 8, bench/bench_te_refine.py)
+# units of seed 3 it reads -0.3 % below the converged figure on average (the sampled one -8.0 %; worst -2.7 against
+# -30.8 %) but 8 units stay beyond 1 %, at ~6 times the CPU of the sampled evaluation (issue 36 item 8: the aim is
+# every unit within 1 % at 2-3 times; bench/bench_te_refine.py, docs/transmission-error.md)
 REFINE = False
 CHUNK = 256  # units drawn, then evaluated, at a time
 EVAL_THREADS = 2
@@ -148,7 +148,7 @@ def evaluate_chunk(stage, kin, table, batch, ref, out, saved):
     rows = n if ref.refine else 0  # the pins' gaps and levers recorded: where to refine
     curve = FlankCurve(np.empty(n), np.empty(n), np.empty(n), np.empty((rows, stage.discs, stage.zp), np.float32),
                        np.empty((rows, stage.discs, stage.zp), np.float32))
-    work = point_work(stage, kin.planets)
+    work = point_work(stage, kin.planets, n)
     ccw, cw = curve.ccw_rad, curve.cw_rad
     lin = batch.linear_arcmin
     for s in range(lin.size):
@@ -162,16 +162,15 @@ def evaluate_chunk(stage, kin, table, batch, ref, out, saved):
         if s < saved.cycloid_stage.size:
             saved.cycloid_stage[s] = cycloid
         if ref.refine:
-            hi = refined_extreme(stage, kin, unit, ref, scratch, work, curve, 1.0)
-            lo = refined_extreme(stage, kin, unit, ref, scratch, work, curve, -1.0)
+            pp = refined_peak_to_peak(stage, kin, unit, ref, scratch, work, curve)
         else:
             lo, hi = np.inf, -np.inf
             for k in range(n):
                 v = ccw[k] - ref.ccw_rad[k]
                 lo = min(lo, v)
                 hi = max(hi, v)
-            lo = -lo
-        out[1, s] = (hi + lo) * ARCSEC_PER_RAD
+            pp = hi - lo
+        out[1, s] = pp * ARCSEC_PER_RAD
         out[2, s] = lin[s] + lm_max * ARCMIN_PER_RAD
 
 
@@ -243,9 +242,29 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     kin_laws = KinematicLaws(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
     kin = kinematics(problem)
     refine = REFINE if refine is None else bool(refine)
-    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine)
+    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine,
+                            np.empty((0, 0)))
+    if refine:
+        reference = reference._replace(between_rad=_reference_between(g, kin, reference))
     return TransmissionBlockSource(c, kin_laws, kin, position_table(g, n, 0.0), reference, TE_OUTPUTS,
                                    save_units=int(save_units))
+
+
+_BETWEEN: dict = {}  # (geometry, Kinematics, the error-free unit's flank at the positions) -> its points between
+
+
+def _reference_between(g, kin: Kinematics, reference: TEReference) -> np.ndarray:
+    """The error-free unit's flank at REFERENCE_POINTS points a step (te_refine.reference_between), computed
+    once per design and grid (~50 ms for rv80e; read-only)."""
+    key = (g, kin, reference.ccw_rad.tobytes())
+    if key not in _BETWEEN:
+        out = np.empty((reference.ccw_rad.size, REFERENCE_POINTS))
+        reference_between(g.stage_geometry, kin, reference, out)
+        out.flags.writeable = False
+        if len(_BETWEEN) >= 8:
+            _BETWEEN.pop(next(iter(_BETWEEN)))
+        _BETWEEN[key] = out
+    return _BETWEEN[key]
 
 
 def sample_units(problem: Problem, seed: int, n: int, stream: tuple[int, ...] = ()) -> list[Realization]:
