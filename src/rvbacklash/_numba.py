@@ -85,7 +85,22 @@ except ImportError:  # pragma: no cover - Windows: no lock, each process compile
 
 _LOCK_WAIT_S = 900.0  # longest wait for another process's compile (then compile here): no deadlock can hang
 _held: set[str] = set()  # the compile locks this process holds (a kernel compiles the kernels it calls inside)
+_held_fds: dict[str, int] = {}
 _held_guard = threading.Lock()
+
+
+def _forget_locks_in_child() -> None:
+    """A process forked while another thread compiles shares that thread's lock (one open file): the
+    child closes its copy, else the lock would last as long as the child."""
+    for fd in _held_fds.values():
+        with contextlib.suppress(OSError):
+            os.close(fd)
+    _held.clear()
+    _held_fds.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_locks_in_child)
 
 
 @contextlib.contextmanager
@@ -116,11 +131,13 @@ def _compile_lock(path: str):
                 break
         with _held_guard:
             _held.add(path)
+            _held_fds[path] = fd
         try:
             yield
         finally:
             with _held_guard:
                 _held.discard(path)
+                _held_fds.pop(path, None)
     finally:
         os.close(fd)  # releases the flock
 
