@@ -19,13 +19,18 @@ performance). ``njit_borrowing`` goes further for the per-unit kernels that allo
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import os
+import threading
+import time
 from pathlib import Path
 
 import numba as nb
+from numba.core import sigutils
 from numba.core.caching import FunctionCache
+from numba.core.compiler_lock import global_compiler_lock
 from numba.core.cpu import CPUTargetOptions
 from numba.core.runtime import rtsys
 
@@ -73,10 +78,100 @@ _FAST_LOAD = all(hasattr(FunctionCache, a) for a in ("_load_overload", "_guard_a
     and hasattr(rtsys, "initialize")
 
 
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: no lock, each process compiles what it misses
+    fcntl = None
+
+_LOCK_WAIT_S = 900.0  # longest wait for another process's compile (then compile here): no deadlock can hang
+_held: set[str] = set()  # the compile locks this process holds (a kernel compiles the kernels it calls inside)
+_held_fds: dict[str, int] = {}
+_held_guard = threading.Lock()
+
+
+def _forget_locks_in_child() -> None:
+    """A process forked while another thread compiles shares that thread's lock (one open file): the
+    child closes its copy, else the lock would last as long as the child."""
+    for fd in _held_fds.values():
+        with contextlib.suppress(OSError):
+            os.close(fd)
+    _held.clear()
+    _held_fds.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_locks_in_child)
+
+
+@contextlib.contextmanager
+def _compile_lock(path: str):
+    """An exclusive lock on ``path`` between processes (``flock``; released by the OS when a process
+    ends, however it ends), while this process compiles the kernel whose cache index is beside it."""
+    with _held_guard:
+        mine = path in _held
+    if mine or fcntl is None:
+        yield
+        return
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError:  # a cache directory without write access: numba skips its cache too
+        yield
+        return
+    try:
+        deadline = time.monotonic() + _LOCK_WAIT_S
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                if time.monotonic() > deadline:
+                    break  # pragma: no cover - compile here as well
+                time.sleep(0.05)  # polled, not blocking: a signal handler (Ctrl-C) runs at once
+            except OSError:  # pragma: no cover - a file system without flock
+                break
+        with _held_guard:
+            _held.add(path)
+            _held_fds[path] = fd
+        try:
+            yield
+        finally:
+            with _held_guard:
+                _held.discard(path)
+                _held_fds.pop(path, None)
+    finally:
+        os.close(fd)  # releases the flock
+
+
+def _compiled_once(dispatcher):
+    """``dispatcher.compile`` that a kernel missing from the on-disk cache compiles in one process at
+    a time: two processes that miss the same kernel at once (pytest's workers, a sweep's, a command
+    and a bench) used to both compile it (a large kernel: ~50 s of CPU each); the second now waits
+    for the first, then loads its machine code from the cache (numba's compile looks there first).
+    One lock per kernel, beside its cache index; a kernel holds its lock while it compiles the
+    kernels it calls, whose locks come after: the call graph has no cycles, so neither can the
+    waits (and a wait ends after _LOCK_WAIT_S anyway)."""
+    compile_ = dispatcher.compile
+    index = getattr(getattr(dispatcher._cache, "_cache_file", None), "_index_path", None)
+    if index is None or not hasattr(dispatcher, "overloads"):  # pragma: no cover - other numba internals
+        return compile_
+    path = index + ".lock"
+
+    def compile(sig):
+        with global_compiler_lock:  # this process's compiles, one at a time, as numba's own compile
+            args, _ = sigutils.normalize_signature(sig)
+            if tuple(args) in dispatcher.overloads:
+                return compile_(sig)
+            with _compile_lock(path):
+                return compile_(sig)
+
+    return compile
+
+
 def njit(**options):
     """``numba.njit(**options)`` with ``error_model="numpy"`` (module docstring); ``cache=True``
     keeps the kernel in the on-disk cache that loads without refreshing numba's target
-    (``_LoadingCache``)."""
+    (``_LoadingCache``) and that a kernel enters once from every process compiling it at the same
+    time (``_compiled_once``)."""
     if not (options.get("cache") and _FAST_LOAD):
         return nb.njit(error_model="numpy", **options)
     decorate = nb.njit(error_model="numpy", **{**options, "cache": False})
@@ -84,6 +179,7 @@ def njit(**options):
     def cached_kernel(fn):
         dispatcher = decorate(fn)
         dispatcher._cache = _LoadingCache(dispatcher.py_func)  # what Dispatcher.enable_caching does
+        dispatcher.compile = _compiled_once(dispatcher)
         return dispatcher
 
     return cached_kernel

@@ -118,7 +118,8 @@ def point_te(stage, kin, unit, ref, scratch, work, x, with_ref):
     work.table.theta_rad[0] = theta
     work.table.chi_rad[0] = chi
     mesh_column_at(stage, chi, work.pins, work.table.coef[0])
-    te_curve(stage, kin, work.table, unit, 0.0, scratch, work.curve, False)
+    linearised = rows < 0  # False, not as a literal: te_curve compiled once for every caller
+    te_curve(stage, kin, work.table, unit, 0.0, scratch, work.curve, linearised)
     if not with_ref:
         return work.curve.ccw_rad[0]
     return work.curve.ccw_rad[0] - reference_at(ref, x)

@@ -88,13 +88,13 @@ def unit_errors(r: Realization, planets: int = 0) -> UnitErrors:
     read them: none are kept, whatever the unit has."""
     discs = np.shape(r.tooth_pitch_um)[0]
 
-    def arr(v) -> np.ndarray:
-        return np.ascontiguousarray(np.asarray(v, dtype=float))
+    def arr(v) -> np.ndarray:  # writable too: a read-only array is another type to numba (a kernel compiled again)
+        return np.require(np.asarray(v, dtype=float), requirements=("C", "W"))
 
     def kinematic(v, shape) -> np.ndarray:
         if v is None or planets == 0:
             return np.zeros(shape)
-        return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), shape))
+        return np.require(np.broadcast_to(np.asarray(v, dtype=float), shape), requirements=("C", "W"))
 
     runout = np.asarray(r.runout_um, dtype=float)
     return UnitErrors(

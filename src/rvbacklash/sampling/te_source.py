@@ -151,9 +151,10 @@ def evaluate_chunk(stage, kin, table, batch, ref, out, saved):
     work = point_work(stage, kin.planets, n)
     ccw, cw = curve.ccw_rad, curve.cw_rad
     lin = batch.linear_arcmin
+    linearised = n < 0  # False, not as a literal: te_curve (and stage_play) compiled once for every caller
     for s in range(lin.size):
         unit = unit_at(batch.units, s)
-        te_curve(stage, kin, table, unit, 0.0, scratch, curve, False)
+        te_curve(stage, kin, table, unit, 0.0, scratch, curve, linearised)
         lm_max = 0.0
         for k in range(n):
             lm_max = max(lm_max, ccw[k] - cw[k])
