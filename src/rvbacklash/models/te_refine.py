@@ -40,7 +40,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rvbacklash._numba import njit
-from rvbacklash.models.contact import N_COEF, mesh_column_at, mesh_pin_angles, pin_gaps
+from rvbacklash.models.contact import N_COEF, free_interval_bounds, mesh_column_at, mesh_pin_angles, pin_gaps
 from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, PositionTable, cubic_weights, curve_scratch, lever_zero, swing_reach,
                                           te_curve)
 
@@ -397,7 +397,6 @@ def screen_steps(curve, ref, azc_um, gaps, est, at):
     (reference_at)."""
     rows, discs, zp = curve.gap_um.shape
     g, lv = gaps.gap_um, gaps.lever_um_per_rad
-    tol = 1e-9 * azc_um
     for n in range(rows):
         for i in range(2):
             est[i, n] = -np.inf
@@ -406,7 +405,6 @@ def screen_steps(curve, ref, azc_um, gaps, est, at):
         for s in range(1, SCREEN_POINTS):
             f = s / SCREEN_POINTS
             w0, w1, w2, w3 = cubic_weights(f)
-            lo, hi, flat = -np.inf, np.inf, np.inf
             for d in range(discs):
                 g0, g1, g2, g3 = curve.gap_um[k0, d], curve.gap_um[k1, d], curve.gap_um[k2, d], curve.gap_um[k3, d]
                 l0, l1, l2, l3 = curve.lever_um_per_rad[k0, d], curve.lever_um_per_rad[k1, d], \
@@ -415,14 +413,7 @@ def screen_steps(curve, ref, azc_um, gaps, est, at):
                 for j in range(zp):  # one pass the compiler runs several pins at a time
                     gd[j] = w0 * g0[j] + w1 * g1[j] + w2 * g2[j] + w3 * g3[j]
                     ld[j] = w0 * l0[j] + w1 * l1[j] + w2 * l2[j] + w3 * l3[j]
-                for j in range(zp):
-                    gv, lvv = gd[j], ld[j]
-                    if lvv > tol:
-                        hi = min(hi, gv / lvv)
-                    elif lvv < -tol:
-                        lo = max(lo, gv / lvv)
-                    else:
-                        flat = min(flat, gv)
+            lo, hi, flat = free_interval_bounds(gaps, azc_um)
             if hi < lo or flat < 0.0:
                 beta = (1.0 - f) * curve.ccw_rad[n] + f * curve.ccw_rad[k2]
                 for _ in range(2):
