@@ -199,8 +199,13 @@ class TransmissionBlockSource:
         return batch
 
     def _evaluate(self, batch: TEBatch, out: np.ndarray, saved: SavedUnits | None = None) -> None:
-        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.reference, out,
-                       saved if saved is not None else self._no_saving)
+        # the kernel writes a C-contiguous array (a block's chunk is columns of its outputs: copied back), so
+        # that it is compiled for one set of argument types (tests/sampling/test_te_kernel_types.py)
+        dense = out if out.flags.c_contiguous else np.empty(out.shape)
+        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.reference,
+                       dense, saved if saved is not None else self._no_saving)
+        if dense is not out:
+            out[...] = dense
 
     @property
     def _no_saving(self) -> SavedUnits:
@@ -245,14 +250,17 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     kin_laws = KinematicLaws(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
     kin = kinematics(problem)
     refine = REFINE if refine is None else bool(refine)
-    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine,
-                            np.empty((0, 0)))
+    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine, _NO_POINTS)
     if refine:
         reference = reference._replace(between_rad=_reference_between(g, kin, reference))
     return TransmissionBlockSource(c, kin_laws, kin, position_table(g, n, 0.0), reference, TE_OUTPUTS,
                                    save_units=int(save_units))
 
 
+# the sampled run's placeholder of TEReference.between_rad: read-only like the refined run's points, so that
+# evaluate_chunk sees one set of argument types and is compiled once (tests/sampling/test_te_kernel_types.py)
+_NO_POINTS = np.empty((0, 0))
+_NO_POINTS.flags.writeable = False
 _BETWEEN: dict = {}  # (geometry, Kinematics, the error-free unit's flank at the positions) -> its points between
 
 
