@@ -26,13 +26,13 @@ from bench_app import start_server  # this directory: the same workbench on a fr
 JOBS = {
     "simulate contact": ("/api/simulate", {"model": "contact", "samples": 10_000_000}),
     "simulate elastic": ("/api/simulate", {"model": "elastic", "samples": 2_000_000}),
-    "simulate transmission": ("/api/simulate", {"model": "transmission", "samples": 200_000}),
+    "simulate transmission": ("/api/simulate", {"model": "transmission", "samples": 20_000}),
     "elastic section": ("/api/elastic-section", {"samples": 10_000}),
     "sensitivity contact": ("/api/sensitivity", {"model": "contact", "samples": 1 << 19}),
     "sensitivity elastic": ("/api/sensitivity", {"model": "elastic", "samples": 1 << 16}),
-    "sensitivity transmission": ("/api/sensitivity", {"model": "transmission", "samples": 1 << 13}),
+    "sensitivity transmission": ("/api/sensitivity", {"model": "transmission", "samples": 1 << 10}),
     "report elastic": ("/api/report", {"model": "elastic", "samples": 2_000_000}),
-    "report transmission": ("/api/report", {"model": "transmission", "samples": 200_000}),
+    "report transmission": ("/api/report", {"model": "transmission", "samples": 20_000}),
     "allocate contact": ("/api/allocate", {"model": "contact", "spec_arcmin": 3, "yield": 0.99, "samples": 1 << 16}),
     "allocate elastic": ("/api/allocate", {"model": "elastic", "spec_arcmin": 1.5, "yield": 0.99, "samples": 10_000}),
 }

@@ -1,5 +1,5 @@
-"""The production run's TE peak-to-peak, sampled at its 8 z_p positions (the default) and refined between
-them (models.te_refine, opt-in), against the converged per-unit figure (issue 36 item 8): prints figures,
+"""The production run's TE peak-to-peak, sampled at its 8 z_p positions (the figure before schema 9.0) and
+refined between them (models.te_refine, the run's figure since), against the converged per-unit figure (issue 36 item 8): prints figures,
 asserts nothing.
 
     .venv/bin/python bench/bench_te_refine.py [--units 40] [--seed 3] [--samples 4000] [--tiny]
@@ -53,6 +53,7 @@ def main() -> None:
               f"{int(np.count_nonzero(np.abs(rel) >= 0.01))} of {a.units}; evaluation {cpu * 1e3:.2f} ms CPU a unit")
     cpu = {False: [], True: []}
     means = {}
+    default = te_source.REFINE
     for _ in range(2):
         for refine in (False, True):
             te_source.REFINE = refine
@@ -62,7 +63,7 @@ def main() -> None:
                 cpu[refine].append(time.process_time() - c)
                 means[refine] = run.outputs["transmission_error"].mean
             finally:
-                te_source.REFINE = False
+                te_source.REFINE = default
     for refine in (False, True):
         print(f"simulate rv80e --model transmission -n {a.samples} --seed 1, {'refined' if refine else 'sampled'}: "
               f"TE mean {means[refine]:.2f} arcsec, CPU {min(cpu[refine]):.2f} s (best of 2, both threads)")

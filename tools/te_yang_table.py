@@ -11,8 +11,8 @@ prints them, asserts nothing.
    drawn by the run's own block source);
 2. the first ``--exact-units`` units of the same run on the exact geometry (``transmission-error``:
    1024 positions, the figure refined between them, converged in positions): their mean against the
-   run's own figure of the same units (the run reads the linearised curve sampled at 8 z_p = 320
-   positions), the mean amplitude spectrum by order (ccw flank) and the median variance share of
+   run's own figure of the same units (the run reads the linearised curve at 8 z_p = 320 positions,
+   refined between them), the mean amplitude spectrum by order (ccw flank) and the median variance share of
    each error group (each switched off in turn);
 3. the spectrum checks (``--spectrum-units``, 40: the first units of the same seed, exact geometry, 1024
    positions, ccw flank): the mean amplitude at orders 1, z_c and z_p with every error, with the pins'

@@ -10,4 +10,4 @@ except PackageNotFoundError:  # running from a source tree without installation
 # Version of the JSON output formats, written into every JSON output as ``schema_version``:
 # the major number changes when a field moves or changes meaning, the minor when fields are added.
 # CHANGELOG.md records every change; ``rvbacklash schema --output COMMAND`` prints the schema.
-SCHEMA_VERSION = "8.0"
+SCHEMA_VERSION = "9.0"

@@ -97,8 +97,9 @@ def test_sobol_streams_of_te_name_the_kinematic_factors(problem):
 def test_saved_units_carry_their_kinematic_errors(problem, tmp_path):
     """``--save-units`` with the transmission model (issue 27): each saved unit holds its kinematic
     errors (the gears' eccentricities, the crank holes), survives the measured-unit file, and re-run
-    alone on the exact geometry at the run's output positions gives the TE the production run found
-    for it (its fast path: within 0.2 %)."""
+    alone on the exact geometry at the run's output positions gives the TE the production run's curve
+    has there (its fast path, sampled: within 0.2 %); the run's own figure, refined between the positions,
+    is never below that."""
     from rvbacklash.analysis.contact import measured_units, unit_realization
     from rvbacklash.design.measured import load_units, units_to_toml
     from rvbacklash.models.kinematics import reference_revolution
@@ -110,6 +111,7 @@ def test_saved_units_carry_their_kinematic_errors(problem, tmp_path):
     assert path.read_text().count("[unit.kinematics]") == 3
     loaded = load_units(path, problem.design)
     run = transmission_source(problem, "default", 3).block(0, 3)  # the run's first block: its TE p-p per unit
+    sampled = transmission_source(problem, "default", 3, refine=False).block(0, 3)  # read at the positions only
     for k, (saved, lin, stage) in enumerate(r.units):
         again = unit_realization(problem, loaded[k])
         for name in ("planet_eccentricity_um", "disc_crank_hole_um", "carrier_crank_hole_um",
@@ -120,4 +122,5 @@ def test_saved_units_carry_their_kinematic_errors(problem, tmp_path):
         assert lin + stage == pytest.approx(run[0, k], rel=1e-12)
         positions = te_source.POSITIONS_PER_PIN * problem.cycloid.zp  # the production run's
         curve = revolution(problem, again, positions).ccw_rad - reference_revolution(problem, positions).ccw_rad
-        assert np.ptp(curve) * ARCSEC_PER_RAD == pytest.approx(run[1, k], rel=2e-3)  # exact against the fast path
+        assert np.ptp(curve) * ARCSEC_PER_RAD == pytest.approx(sampled[1, k], rel=2e-3)  # exact against the fast path
+        assert run[1, k] >= sampled[1, k]

@@ -21,7 +21,7 @@ from rvbacklash.errors import InputError
 
 
 # the command that re-runs a saved unit alone to the run's figures (the transmission model's: its TE curve on
-# the exact geometry, within 0.2 % of the run's at its 8 z_p positions)
+# the exact geometry, converged in positions; the run's figure, refined between its 8 z_p positions, within a few %)
 RERUN_SAVED_UNIT = {"contact": "contact", "elastic": "hysteresis", "transmission": "transmission-error"}
 
 @app.command()

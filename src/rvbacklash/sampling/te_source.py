@@ -7,7 +7,8 @@ after the contact model's (``SeedSequence(seed, spawn_key=(*stream, block, N_STR
 Every unit then turns through one output revolution from the reference position (crank angle
 0) at POSITIONS_PER_PIN x z_p positions, each flank's first contact linearised at its position
 (``models.kinematics.te_curve`` with exact=False; the tests bound the difference to the exact
-solve). Outputs per unit: the rigid backlash at the reference position (as the contact model's
+solve), and its TE peak-to-peak is refined between the positions (``models.te_refine``: the
+extremes narrower than a step that the positions straddle). Outputs per unit: the rigid backlash at the reference position (as the contact model's
 ``backlash``: the cycloid stage plus the involute and crank stages' linear part), the TE
 peak-to-peak of the ccw flank [arcsec], the largest lost motion over the revolution.
 
@@ -44,18 +45,19 @@ from rvbacklash.sampling.unit_draw import N_STREAMS, _normal, draw_scratch, draw
 from rvbacklash.units import ARCMIN_PER_RAD
 
 POSITIONS_PER_PIN = 8  # output positions per revolution = 8 z_p (320 for rv80e): orders below 4 z_p resolved
-# The TE peak-to-peak refined between the positions (models.te_refine) is not the default yet: on the first 40
-# units of seed 3 it reads -0.3 % below the converged figure on average (the sampled one -8.0 %; worst -2.7 against
-# -30.8 %) but 8 units stay beyond 1 %, at ~6 times the CPU of the sampled evaluation (issue 36 item 8: the aim is
-# every unit within 1 % at 2-3 times; bench/bench_te_refine.py, docs/transmission-error.md)
-REFINE = False
+# The TE peak-to-peak is refined between the positions (models.te_refine; schema 9.0): on the first 40 units of
+# seed 3 it reads -0.3 % below the converged figure on average, where the figure sampled at the positions read -8.0 %
+# (worst -2.7 against -30.8 %), at ~6 times the sampled evaluation's CPU (bench/bench_te_refine.py,
+# docs/transmission-error.md, "The production run"). False: the sampled figure (a lower bound of the refined one).
+REFINE = True
 CHUNK = 256  # units drawn, then evaluated, at a time
 EVAL_THREADS = 2
 
 TE_OUTPUTS = (
     Output("backlash", "arcmin", "output backlash (rigid lost motion) at the reference position, every unit: the "
                                  "cycloid stage (0 when preloaded) plus the involute and crank stages"),
-    Output("transmission_error", "arcsec", "transmission error peak-to-peak over one output revolution (ccw flank)"),
+    Output("transmission_error", "arcsec", "transmission error peak-to-peak over one output revolution (ccw flank), "
+                                       "refined between the run's 8 z_p positions"),
     Output("lost_motion_max", "arcmin", "largest rigid lost motion over the output revolution: the cycloid stage's "
                                         "largest plus the involute and crank stages"),
 )
@@ -141,8 +143,8 @@ def evaluate_chunk(stage, kin, table, batch, ref, out, saved):
     design's Kinematics ``kin``, the PositionTable of the positions, the error-free unit
     (``ref``: TEReference, its ccw flank there); the cycloid stage of the first units into ``saved``
     (SavedUnits: its rigid lost motion at the reference position [arcmin], 0 where preloaded). The TE
-    peak-to-peak: the curve's at the positions, or refined between them when ref.refine
-    (te_refine.refined_extreme; not the default: docs/transmission-error.md, "The production run")."""
+    peak-to-peak: refined between the positions when ref.refine (te_refine.refined_peak_to_peak, the
+    default: docs/transmission-error.md, "The production run"), else the curve's at the positions."""
     n = table.chi_rad.size
     scratch = curve_scratch(stage.zp, stage.zc, stage.discs, kin.planets)
     rows = n if ref.refine else 0  # the pins' gaps and levers recorded: where to refine
@@ -197,8 +199,13 @@ class TransmissionBlockSource:
         return batch
 
     def _evaluate(self, batch: TEBatch, out: np.ndarray, saved: SavedUnits | None = None) -> None:
-        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.reference, out,
-                       saved if saved is not None else self._no_saving)
+        # the kernel writes a C-contiguous array (a block's chunk is columns of its outputs: copied back), so
+        # that it is compiled for one set of argument types (tests/sampling/test_te_kernel_types.py)
+        dense = out if out.flags.c_contiguous else np.empty(out.shape)
+        evaluate_chunk(self.contact.geometry.stage_geometry, self.kinematics, self.table, batch, self.reference,
+                       dense, saved if saved is not None else self._no_saving)
+        if dense is not out:
+            out[...] = dense
 
     @property
     def _no_saving(self) -> SavedUnits:
@@ -243,14 +250,17 @@ def transmission_source(problem: Problem, method: str, seed: int, stream: tuple[
     kin_laws = KinematicLaws(*(float(z.sigma_um) for z in kinematic_zones(problem.design, problem.zones)))
     kin = kinematics(problem)
     refine = REFINE if refine is None else bool(refine)
-    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine,
-                            np.empty((0, 0)))
+    reference = TEReference(ref.ccw_rad, unit_errors(perfect_unit(problem, 0.0), kin.planets), refine, _NO_POINTS)
     if refine:
         reference = reference._replace(between_rad=_reference_between(g, kin, reference))
     return TransmissionBlockSource(c, kin_laws, kin, position_table(g, n, 0.0), reference, TE_OUTPUTS,
                                    save_units=int(save_units))
 
 
+# the sampled run's placeholder of TEReference.between_rad: read-only like the refined run's points, so that
+# evaluate_chunk sees one set of argument types and is compiled once (tests/sampling/test_te_kernel_types.py)
+_NO_POINTS = np.empty((0, 0))
+_NO_POINTS.flags.writeable = False
 _BETWEEN: dict = {}  # (geometry, Kinematics, the error-free unit's flank at the positions) -> its points between
 
 
