@@ -299,9 +299,6 @@ def _freeing_point(problem, unit, lo_step, hi_step, n=1024):
     return (fa, fb) if fa[0] == fa[1] else (fb, fa)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 36 item 8, open: the rest is solved on the linearised gaps "
-                   "(docs/transmission-error.md, 'The cycloid stage's play'); the exact rest of commit d856598 "
-                   "passes this test but breaks the convergence in positions")
 def test_a_preloaded_stage_rests_where_it_frees(problem):
     """Issue 36 item 8, what is left: the per-unit curve places a preloaded stage at the balanced
     rotation of the gaps linearised at the assembled position, and a free one at its first contacts on
