@@ -45,10 +45,10 @@ import numpy as np
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, T0, TOOTH,
-                                      N_COEF, PinGaps, StageWork, _lowest_gaps, free_interval_bounds, mesh_column_at,
-                                      mesh_pin_angles, mesh_table, pin_base_um, pin_gaps, stage_play, stage_work,
-                                      turned_gap)
+from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, N_COEF, OX, OY, RHO, RHO_TIGHT_MM, SANG, SCHI, SIDE,
+                                      SPSI, T0, TOOTH, PinGaps, StageWork, _lowest_gaps, free_interval_bounds,
+                                      mesh_column_at, mesh_pin_angles, mesh_table, pin_base_um, pin_gaps, stage_play,
+                                      stage_work, turned_gap)
 from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -290,7 +290,8 @@ def balanced_rotation(gaps, lo, hi):
 # REST_TOL_RAD.
 REST_SCREEN_UM = 0.5
 REST_REACH_RAD = 1e-5
-REST_TOL_RAD = 1e-15
+REST_TOL_RAD = 1e-13  # 2e-8 arcsec
+FREE_SCREEN_TIGHT_UM, FREE_SCREEN_UM = 0.5, 0.02  # exact_free: the pins checked on the exact curve
 
 
 @njit(nogil=True, cache=True)
@@ -312,8 +313,9 @@ def _rest_force(exact, beta, coef, stage, unit, work):
             if exact:
                 if val[d, j] - abs(lev[d, j]) * REST_REACH_RAD >= REST_SCREEN_UM:
                     continue
-                gap, dgap, _ = turned_gap(work.pin_x_mm[d, j], work.pin_y_mm[d, j], beta, pin_base_um(unit, d, j),
-                                          a, rg, zc, coef[T0, d, j])
+                gap, dgap, foot = turned_gap(work.pin_x_mm[d, j], work.pin_y_mm[d, j], beta, pin_base_um(unit, d, j),
+                                             a, rg, zc, work.estimate_rad[d, j])
+                work.estimate_rad[d, j] = foot  # the next call starts from this foot (exact_rest set them)
                 lv = -dgap
             else:
                 gap, lv = val[d, j], lev[d, j]
@@ -329,7 +331,7 @@ def _rest_root(exact, beta, reach, coef, stage, unit, work):
     """(beta, deepest interference there [um]): a root of _rest_force's F near the start beta [rad] at
     which F rises (the contacts' strain energy has a minimum there): a bracket found by steps that
     double from the Newton step (no farther than ``reach`` [rad] from the start: else the start is
-    returned), then Newton inside it, bisection when a step leaves it. Returns at once where F = 0 (no
+    returned), then false position inside it (Illinois) to REST_TOL_RAD. Returns at once where F = 0 (no
     pin interferes)."""
     f, slope, depth = _rest_force(exact, beta, coef, stage, unit, work)
     if f == 0.0:
@@ -352,22 +354,30 @@ def _rest_root(exact, beta, reach, coef, stage, unit, work):
         step *= 2.0
     if not found:
         return start, depth0
-    left, right = (xa, xb) if sgn > 0.0 else (xb, xa)
-    beta, f, slope, depth = xb, fb, sb, db
+    # the bracket: F < 0 at its left end, > 0 at its right; false position (Illinois: the end that stays
+    # put has its value halved), superlinear where F bends (a Newton step on sum l_j^2 converged linearly)
+    xl, fl, xr, fr = (xa, fa, xb, fb) if sgn > 0.0 else (xb, fb, xa, fa)
+    beta, depth, side = xb, db, 0
     for _ in range(100):
-        nxt = beta - f / slope if slope > 0.0 else 0.5 * (left + right)
-        if not left < nxt < right:
-            nxt = 0.5 * (left + right)
-        if abs(nxt - beta) <= REST_TOL_RAD + 1e-13 * abs(beta) or right - left <= REST_TOL_RAD + 1e-13 * abs(beta):
+        nxt = (xl * fr - xr * fl) / (fr - fl)
+        if not xl < nxt < xr:
+            nxt = 0.5 * (xl + xr)
+        if abs(nxt - beta) <= REST_TOL_RAD or xr - xl <= REST_TOL_RAD:
             return nxt, depth
         beta = nxt
-        f, slope, depth = _rest_force(exact, beta, coef, stage, unit, work)
+        f, _, depth = _rest_force(exact, beta, coef, stage, unit, work)
         if f == 0.0:
             return beta, depth
         if f > 0.0:
-            right = beta
+            xr, fr = beta, f
+            if side == 1:
+                fl *= 0.5
+            side = 1
         else:
-            left = beta
+            xl, fl = beta, f
+            if side == -1:
+                fr *= 0.5
+            side = -1
     return beta, depth
 
 
@@ -391,6 +401,9 @@ def exact_rest(coef, stage, unit, work, beta0):
     (REST_SCREEN_UM), screened again at the exact rest (_rest_root)."""
     a, rp, zc, discs, zp = stage.a_mm, stage.rp_mm, stage.zc, stage.discs, stage.zp
     md, val, lev = unit.moving_distance_um, work.value_um, work.lever_um_per_rad
+    for d in range(discs):  # the pins' feet on the curve, from their nominal ones (_rest_force keeps them)
+        for j in range(zp):
+            work.estimate_rad[d, j] = coef[T0, d, j]
     beta, depth = _rest_root(False, beta0, np.inf, coef, stage, unit, work)
     for _ in range(2):  # the exact curve, the pins screened at the rest so far
         _lowest_gaps(coef, work, md, beta)
@@ -440,7 +453,10 @@ def exact_free(coef, stage, unit, work, beta):
     for d in range(discs):
         rg = rp + md[d] * 1e-3
         for j in range(zp):
-            if val[d, j] < REST_SCREEN_UM and turned_gap(work.pin_x_mm[d, j], work.pin_y_mm[d, j], beta,
+            # the circles' error at the rest's rotations, measured (3 units of seed 3, every pin below 2 um):
+            # up to 0.25 um where C bends tightly (RHO < RHO_TIGHT_MM), 0.003 um elsewhere
+            screen = FREE_SCREEN_TIGHT_UM if coef[RHO, d, j] < RHO_TIGHT_MM else FREE_SCREEN_UM
+            if val[d, j] < screen and turned_gap(work.pin_x_mm[d, j], work.pin_y_mm[d, j], beta,
                                                          pin_base_um(unit, d, j), a, rg, zc, coef[T0, d, j])[0] < 0.0:
                 return False
     return True
