@@ -337,7 +337,7 @@ def _rest_root(exact, beta, reach, coef, stage, unit, work):
     if f == 0.0:
         return beta, depth
     start, depth0 = beta, depth
-    step = min(abs(f) / slope, reach / 64.0) if slope > 0.0 else reach / 1024.0
+    step = min(abs(f) / slope, reach / 8.0) if slope > 0.0 else reach / 1024.0
     sgn = -1.0 if f > 0.0 else 1.0  # towards the root
     xa, fa = beta, f
     xb, fb, sb, db = beta, f, slope, depth
@@ -405,9 +405,12 @@ def exact_rest(coef, stage, unit, work, beta0):
         for j in range(zp):
             work.estimate_rad[d, j] = coef[T0, d, j]
     beta, depth = _rest_root(False, beta0, np.inf, coef, stage, unit, work)
-    for _ in range(2):  # the exact curve, the pins screened at the rest so far
-        _lowest_gaps(coef, work, md, beta)
+    for _ in range(2):  # the exact curve, the pins screened at the rest so far (again if it moved farther
+        _lowest_gaps(coef, work, md, beta)  # than the screen reaches)
+        start = beta
         beta, depth = _rest_root(True, beta, 10.0 * REST_REACH_RAD, coef, stage, unit, work)
+        if abs(beta - start) <= REST_REACH_RAD:
+            break
     if depth > 0.0:
         return beta, beta, depth
     # free on the exact gaps: the nearest contact of each side among the screened pins (Newton on each
@@ -598,7 +601,7 @@ NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a ste
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
 SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
 SWING_OFFSETS = (-1e-3, -1e-4, -1e-5, 0.0, 1e-5, 1e-4, 1e-3)  # of a step: about a solved lever zero (solved_lever_zero)
-WINDOW_REV, WINDOW_POINTS = 0.25 / DEFAULT_POSITIONS, 8  # exact rest: a window about each candidate [rev], points a side
+WINDOW_REV, WINDOW_POINTS = 0.25 / DEFAULT_POSITIONS, 4  # exact rest: a window about each candidate [rev], points a side
 ZOOM_MARGIN_RAD = 2.0 / ARCSEC_PER_RAD  # a window's best this close to the extreme is searched about too
 LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 8, 1e-5  # regula falsi on the solved lever: at most, and the last move [steps]
 
@@ -863,10 +866,16 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
     first, windows = [], []
     w = WINDOW_REV * n  # a window's half-width [steps]
     grid = [w * k / WINDOW_POINTS for k in range(-WINDOW_POINTS, WINDOW_POINTS + 1)]
+
+    def rests(k: int) -> bool:
+        """Whether the stage rests (is preloaded) at either end of step k: where the exact rest can part
+        from the linearised one the estimates read."""
+        return bool(run.preload_um[k % n] > 0.0 or run.preload_um[(k + 1) % n] > 0.0)
+
     for i in range(4):
         order = np.argsort(value[i])[::-1][:CANDIDATES]
         points = [float(k + at[i, k]) for k in order if value[i, k] > best[i]]
-        centres = list(points)
+        centres = [x for x in points if rests(int(x))]
         if points:  # about the best estimate too: the solved curve's narrow features sit near, not at, it
             points += [points[0] + o for o in NEAR_OFFSETS]
         # the swings the interpolation cannot rule out whose reach passes it (step_extremes), at the
