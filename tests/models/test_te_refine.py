@@ -46,15 +46,19 @@ def test_the_refined_run_reads_the_converged_figure(problem):
     -1.4 % on average before the screen of every step (unit 8 -4.1 %, unit 2 -3.3 %: a preloaded stage's
     hump and dip inside a step), now within 1 % on average, no unit below -3 %, none above +1 % (every
     figure is a point of the linearised curve), never below the sampled figure; the other outputs are
-    unchanged."""
+    unchanged. Re-pinned when the exact curve's preloaded stage came to rest on the exact gaps (issue 36 item
+    8: kinematics.exact_rest; the linearised curve this run reads still rests on the linearised ones): the
+    linearised curve's own converged figure (curve_extremes(exact=False)) now reads -1.9 % (unit 6) to +2.5 %
+    (unit 5) against the exact curve's on these 12 units, before -0.0 to +0.85 %, so the bounds moved from
+    -3 / +1 % to -4.5 / +3 % (measured: -3.8 % unit 6, +2.5 % unit 5)."""
     units = sample_units(problem, 3, UNITS)
     converged = np.array([transmission_error(problem, u, f"unit {k}", 1024, shares=False).te_peak_to_peak_arcsec
                           for k, u in enumerate(units)])
     sampled, refined = figures(problem, False), figures(problem, True)
     rel = refined[1] / converged - 1
     assert rel.mean() > -0.01, rel
-    assert rel.min() > -0.03, rel
-    assert rel.max() < 0.01, rel
+    assert rel.min() > -0.045, rel
+    assert rel.max() < 0.03, rel
     assert np.all(refined[1] >= sampled[1])
     np.testing.assert_array_equal(refined[[0, 2]], sampled[[0, 2]])
     assert (sampled[1] / converged - 1).mean() < -0.05  # what the default run still reads

@@ -45,9 +45,10 @@ import numpy as np
 from rvbacklash._numba import njit
 from rvbacklash.factors.catalog import FACTOR_KEYS
 from rvbacklash.geometry.cycloid import ContactGeometry
-from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, OX, OY, RHO, SANG, SCHI, SIDE, SPSI, TOOTH, PinGaps,
-                                      StageWork, free_interval_bounds, mesh_table, pin_gaps,
-                                      stage_play, stage_work)
+from rvbacklash.models.contact import (CANG, CCHI, CPSI, EUX, EUY, N_COEF, OX, OY, RHO, RHO_TIGHT_MM, SANG, SCHI, SIDE,
+                                      SPSI, T0, TOOTH, PinGaps, StageWork, _lowest_gaps, free_interval_bounds,
+                                      mesh_column_at, mesh_pin_angles, mesh_table, pin_base_um, pin_gaps, stage_play,
+                                      stage_work, turned_gap)
 from rvbacklash.models.unit_errors import Realization, unit_errors, with_disc_errors
 from rvbacklash.problem import Problem
 from rvbacklash.units import ARCMIN_PER_RAD
@@ -281,6 +282,189 @@ def balanced_rotation(gaps, lo, hi):
     return beta
 
 
+# The rest of a preloaded stage on the exact gaps (exact_rest): found first on every pin's osculating
+# circle, then on the exact curve of the pins that its osculating gap, less REST_REACH_RAD of its lever,
+# puts within REST_SCREEN_UM of contact (the circles are within ~1e-3 um of the curve at the pins that
+# interfere, and the rest moves by ~1e-6 rad from one to the other); no exact gap is solved more than
+# REST_REACH_RAD from the osculating rest (a far start finds another foot of the curve). Solved to
+# REST_TOL_RAD.
+REST_SCREEN_UM = 0.5
+REST_REACH_RAD = 1e-5
+REST_TOL_RAD = 1e-13  # 2e-8 arcsec
+FREE_SCREEN_TIGHT_UM, FREE_SCREEN_UM = 0.5, 0.02  # exact_free: the pins checked on the exact curve
+
+
+@njit(nogil=True, cache=True)
+def _rest_force(exact, beta, coef, stage, unit, work):
+    """(F, dF/dbeta, deepest interference [um]) at rotation beta [rad] of balanced_rotation's
+    F = sum_j l_j max(0, -gap_j) [um^2/rad] (l_j = -d gap_j / d beta; the slope taken as sum l_j^2 over
+    the interfering pins, exact for straight gaps). ``exact`` False: every pin's gap on its osculating
+    circle (contact._lowest_gaps into ``work``); True: on the exact curve (turned_gap, from the pin's
+    nominal foot), the pins that work.value_um and work.lever_um_per_rad (the screen) put within
+    REST_SCREEN_UM of contact over REST_REACH_RAD."""
+    a, rp, zc, discs, zp = stage.a_mm, stage.rp_mm, stage.zc, stage.discs, stage.zp
+    md, val, lev = unit.moving_distance_um, work.value_um, work.lever_um_per_rad
+    f, slope, depth = 0.0, 0.0, 0.0
+    if not exact:
+        _lowest_gaps(coef, work, md, beta)
+    for d in range(discs):
+        rg = rp + md[d] * 1e-3
+        for j in range(zp):
+            if exact:
+                if val[d, j] - abs(lev[d, j]) * REST_REACH_RAD >= REST_SCREEN_UM:
+                    continue
+                gap, dgap, foot = turned_gap(work.pin_x_mm[d, j], work.pin_y_mm[d, j], beta, pin_base_um(unit, d, j),
+                                             a, rg, zc, work.estimate_rad[d, j])
+                work.estimate_rad[d, j] = foot  # the next call starts from this foot (exact_rest set them)
+                lv = -dgap
+            else:
+                gap, lv = val[d, j], lev[d, j]
+            if gap < 0.0:
+                f -= lv * gap
+                slope += lv * lv
+                depth = max(depth, -gap)
+    return f, slope, depth
+
+
+@njit(nogil=True, cache=True)
+def _rest_root(exact, beta, reach, coef, stage, unit, work):
+    """(beta, deepest interference there [um]): a root of _rest_force's F near the start beta [rad] at
+    which F rises (the contacts' strain energy has a minimum there): a bracket found by steps that
+    double from the Newton step (no farther than ``reach`` [rad] from the start: else the start is
+    returned), then false position inside it (Illinois) to REST_TOL_RAD. Returns at once where F = 0 (no
+    pin interferes)."""
+    f, slope, depth = _rest_force(exact, beta, coef, stage, unit, work)
+    if f == 0.0:
+        return beta, depth
+    start, depth0 = beta, depth
+    step = min(abs(f) / slope, reach / 8.0) if slope > 0.0 else reach / 1024.0
+    sgn = -1.0 if f > 0.0 else 1.0  # towards the root
+    xa, fa = beta, f
+    xb, fb, sb, db = beta, f, slope, depth
+    found = False
+    while abs(xa + sgn * step - start) <= reach:  # the bracket: the last point of the start's sign, the first past it
+        xb = xa + sgn * step
+        fb, sb, db = _rest_force(exact, xb, coef, stage, unit, work)
+        if fb == 0.0:
+            return xb, db
+        if (fb > 0.0) != (fa > 0.0):
+            found = True
+            break
+        xa, fa = xb, fb
+        step *= 2.0
+    if not found:
+        return start, depth0
+    # the bracket: F < 0 at its left end, > 0 at its right; false position (Illinois: the end that stays
+    # put has its value halved), superlinear where F bends (a Newton step on sum l_j^2 converged linearly)
+    xl, fl, xr, fr = (xa, fa, xb, fb) if sgn > 0.0 else (xb, fb, xa, fa)
+    beta, depth, side = xb, db, 0
+    for _ in range(100):
+        nxt = (xl * fr - xr * fl) / (fr - fl)
+        if not xl < nxt < xr:
+            nxt = 0.5 * (xl + xr)
+        if abs(nxt - beta) <= REST_TOL_RAD or xr - xl <= REST_TOL_RAD:
+            return nxt, depth
+        beta = nxt
+        f, _, depth = _rest_force(exact, beta, coef, stage, unit, work)
+        if f == 0.0:
+            return beta, depth
+        if f > 0.0:
+            xr, fr = beta, f
+            if side == 1:
+                fl *= 0.5
+            side = 1
+        else:
+            xl, fl = beta, f
+            if side == -1:
+                fr *= 0.5
+            side = -1
+    return beta, depth
+
+
+@njit(nogil=True, cache=True)
+def exact_rest(coef, stage, unit, work, beta0):
+    """(ccw, cw, preload) of a stage that the contact solver finds preloaded, or whose exact first
+    contacts cross, on the exact gaps: both flanks [rad] at the rotation where the interfering pins'
+    contact forces balance (balanced_rotation's F(beta) = sum_j l_j max(0, -gap_j(beta)) = 0, with
+    gap_j and l_j = -d gap_j / d beta on the exact curve: turned_gap) and the deepest interference
+    there [um]; or, if the exact gaps leave a free interval there after all, its ends (the first
+    contacts, preload 0). ``coef``: the mesh_table column; ``unit``: the UnitErrors as placed;
+    ``work``: the StageWork that stage_play (unit_gaps) left: the pins' centres in the disc frames;
+    beta0: the start (balanced_rotation on the linearised gaps, or between crossed contacts).
+
+    Why: the free stage's flanks are the exact first contacts, and the linearised gaps at beta = 0
+    miss a pin facing a tooth tip by up to tenths of a um (the curve bends there with a radius of
+    ~0.13 mm), so the balanced rotation on them did not meet the first contacts where the stage frees:
+    the curve jumped by up to 5.5 arcsec (seed 0, unit 1). On the exact gaps, F's root tends to the
+    point where the two first contacts meet as the preload tends to 0. First on the osculating circles
+    of every pin (closed forms, good at any rotation), then on the exact curve of the screened pins
+    (REST_SCREEN_UM), screened again at the exact rest (_rest_root)."""
+    a, rp, zc, discs, zp = stage.a_mm, stage.rp_mm, stage.zc, stage.discs, stage.zp
+    md, val, lev = unit.moving_distance_um, work.value_um, work.lever_um_per_rad
+    for d in range(discs):  # the pins' feet on the curve, from their nominal ones (_rest_force keeps them)
+        for j in range(zp):
+            work.estimate_rad[d, j] = coef[T0, d, j]
+    beta, depth = _rest_root(False, beta0, np.inf, coef, stage, unit, work)
+    for _ in range(2):  # the exact curve, the pins screened at the rest so far (again if it moved farther
+        _lowest_gaps(coef, work, md, beta)  # than the screen reaches)
+        start = beta
+        beta, depth = _rest_root(True, beta, 10.0 * REST_REACH_RAD, coef, stage, unit, work)
+        if abs(beta - start) <= REST_REACH_RAD:
+            break
+    if depth > 0.0:
+        return beta, beta, depth
+    # free on the exact gaps: the nearest contact of each side among the screened pins (Newton on each
+    # pin's gap from beta; the interval is about as narrow as the osculating circles' error)
+    ccw, cw = np.inf, -np.inf
+    for d in range(discs):
+        rg = rp + md[d] * 1e-3
+        for j in range(zp):
+            if val[d, j] - abs(lev[d, j]) * REST_REACH_RAD >= REST_SCREEN_UM:
+                continue
+            px, py, base, t = work.pin_x_mm[d, j], work.pin_y_mm[d, j], pin_base_um(unit, d, j), coef[T0, d, j]
+            gap, dgap, _ = turned_gap(px, py, beta, base, a, rg, zc, t)
+            x = beta
+            for _ in range(20):
+                if dgap == 0.0 or abs(x - beta) > 10.0 * REST_REACH_RAD:
+                    break
+                x -= gap / dgap
+                gap, dgap, _ = turned_gap(px, py, x, base, a, rg, zc, t)
+                if abs(gap) < 1e-9:
+                    break
+            if abs(gap) >= 1e-6 or abs(x - beta) > 10.0 * REST_REACH_RAD:
+                continue
+            if dgap < 0.0:  # a falling gap stops a counter-clockwise turn
+                ccw = min(ccw, x)
+            elif dgap > 0.0:
+                cw = max(cw, x)
+    if ccw > cw and math.isfinite(ccw) and math.isfinite(cw):
+        return ccw, cw, 0.0
+    return beta, beta, 0.0
+
+
+@njit(nogil=True, cache=True)
+def exact_free(coef, stage, unit, work, beta):
+    """Whether every pin is free at rotation beta [rad] on the exact curve: the pins that their
+    osculating circles (contact._lowest_gaps into ``work``) put within REST_SCREEN_UM of contact, on
+    the exact curve (turned_gap). At the middle of the free interval that stage_play found it need not
+    be: the circles miss a pin facing a tooth tip by up to ~1e-3 um, and there the contact solver can
+    return crossed or far contacts (seed 0, unit 1, 998.97590 steps of 1024: 33 661 arcsec); exact_rest
+    places the stage there."""
+    a, rp, zc, discs, zp = stage.a_mm, stage.rp_mm, stage.zc, stage.discs, stage.zp
+    md, val = unit.moving_distance_um, work.value_um
+    _lowest_gaps(coef, work, md, beta)
+    for d in range(discs):
+        rg = rp + md[d] * 1e-3
+        for j in range(zp):
+            # the circles' error at the rest's rotations, measured (3 units of seed 3, every pin below 2 um):
+            # up to 0.25 um where C bends tightly (RHO < RHO_TIGHT_MM), 0.003 um elsewhere
+            screen = FREE_SCREEN_TIGHT_UM if coef[RHO, d, j] < RHO_TIGHT_MM else FREE_SCREEN_UM
+            if val[d, j] < screen and turned_gap(work.pin_x_mm[d, j], work.pin_y_mm[d, j], beta,
+                                                         pin_base_um(unit, d, j), a, rg, zc, coef[T0, d, j])[0] < 0.0:
+                return False
+    return True
+
+
 @njit(nogil=True, cache=True)
 def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
     """Both flanks' output positions [rad] at every output position of ``table`` (PositionTable: the
@@ -288,8 +472,9 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
     ``curve`` (FlankCurve) for the unit whose UnitErrors are ``unit``, its reference position at
     crank angle chi0 (module docstring). ``stage``: StageGeometry; ``kin``: the design's Kinematics;
     ``scratch``: curve_scratch. Where the stage is preloaded both flanks sit at the rotation where
-    the interfering pins' forces balance (balanced_rotation, on the linearised gaps) and the lost
-    motion is 0. ``exact``:
+    the interfering pins' forces balance and the lost motion is 0: ``exact``, on the exact gaps
+    (exact_rest, also where the exact first contacts cross); else on the linearised ones
+    (balanced_rotation). ``exact``:
     each first contact solved on the exact curve (stage_play); else linearised at the assembled
     position (unit_gaps' free interval: the production run's fast path, error bounded in the tests)."""
     a, rp, zc, zp, discs = stage.a_mm, stage.rp_mm, stage.zc, stage.zp, stage.discs
@@ -334,13 +519,22 @@ def te_curve(stage, kin, table, unit, chi0, scratch, curve, exact):
         if curve.gap_um.shape[0] > 0:
             curve.gap_um[n] = gaps.gap_um
             curve.lever_um_per_rad[n] = gaps.lever_um_per_rad
-        if not free:
+        crossed = exact and free and (ccw + cw < 0.0 or not exact_free(coef[n], stage, placed, scratch.work,
+                                                                                    0.5 * (ccw - cw)))
+        if not free or crossed:
             if exact:
                 lo, hi, _ = free_interval_bounds(gaps, stage.pitch_radius_um)
-            b = balanced_rotation(gaps, lo, hi)
-            curve.ccw_rad[n] = b
-            curve.cw_rad[n] = b
-            curve.preload_um[n] = preload
+                start = 0.5 * (ccw - cw) if ccw + cw < 0.0 else balanced_rotation(gaps, lo, hi)
+                # on the exact gaps, so that the rest meets the first contacts where the stage frees
+                ccw, cw, depth = exact_rest(coef[n], stage, placed, scratch.work, start)
+                curve.ccw_rad[n] = ccw
+                curve.cw_rad[n] = cw
+                curve.preload_um[n] = 0.0 if ccw > cw else (preload if preload > 0.0 else depth)
+            else:
+                b = balanced_rotation(gaps, lo, hi)
+                curve.ccw_rad[n] = b
+                curve.cw_rad[n] = b
+                curve.preload_um[n] = preload
         else:
             curve.ccw_rad[n] = ccw
             curve.cw_rad[n] = -cw
@@ -401,12 +595,19 @@ def flank_positions(g: ContactGeometry, r, theta: np.ndarray, chis: np.ndarray, 
 # steps whose reach passes the sampled extremes are solved about the lever's zero (issue 36 item 8:
 # unit 3 of seed 3 read 47.68 at 1024 positions against 48.70 arcsec at 4096, now 48.68; 4 of the 6
 # units of seed 0 that read more than 1 % apart are within it; a fourth-difference estimate of the
-# cubic's error, tried first, underestimated it at the tips and left them).
+# cubic's error, tried first, underestimated it at the tips and left them). The curve solved exactly rests
+# on the exact gaps (exact_rest), the estimates on the linearised ones: where a pin passing a tooth tip holds
+# the stage the exact rest slides with the tip while the linearised one jumps, up to ~0.15 of a default
+# step apart, so about each candidate in a step where the stage rests a window of +-WINDOW_REV is solved
+# (2 WINDOW_POINTS + 1 points) and the pattern search also starts from each window's best within
+# ZOOM_MARGIN_RAD of the extreme (seed 3 unit 11 read -3.95 % at 1024 positions against 16 384 without).
 STEP_POINTS, CANDIDATES, ZOOM_LEVELS = 8, 4, 5
 NEAR_OFFSETS = tuple(0.01 * k for k in (-4, -3, -2, -1, 1, 2, 3, 4))  # of a step
 SWING_SIDE = 1e-3  # of a step: where a swing is read, either side of the lever's zero
 SWING_GAP_UM = 1.0  # a pin's lever crossing 0 is read if its gap at either end is below this (it may interfere between)
 SWING_OFFSETS = (-1e-3, -1e-4, -1e-5, 0.0, 1e-5, 1e-4, 1e-3)  # of a step: about a solved lever zero (solved_lever_zero)
+WINDOW_REV, WINDOW_POINTS = 0.25 / DEFAULT_POSITIONS, 4  # exact rest: a window about each candidate [rev], points a side
+ZOOM_MARGIN_RAD = 2.0 / ARCSEC_PER_RAD  # a window's best this close to the extreme is searched about too
 LEVER_ZERO_ITERATIONS, LEVER_ZERO_TOL = 8, 1e-5  # regula falsi on the solved lever: at most, and the last move [steps]
 
 
@@ -608,14 +809,26 @@ def step_extremes(run, ref, azc_um, out):
                     at[i, n] = f
 
 
+@njit(nogil=True, cache=True)
+def mesh_columns(stage, chis, out):
+    """mesh_table at the crank angles ``chis`` [rad], compiled (contact.mesh_column_at, the pins' angles
+    computed once), into ``out`` (len(chis), N_COEF, discs, z_p): equal to mesh_table to round-off, and
+    ~40 times cheaper (numpy's ~100 us a column was most of a solved point's cost)."""
+    pins = np.empty((4, stage.zp))
+    mesh_pin_angles(stage, pins)
+    for n in range(chis.size):
+        mesh_column_at(stage, chis[n], pins, out[n])
+
+
 def flank_te(g: ContactGeometry, r, reference, kin: Kinematics, theta: np.ndarray,
              exact: bool = True) -> np.ndarray:
     """TE [rad] of both flanks of unit ``r`` (a Realization) at output angles ``theta`` [rad], (2,
     theta.size): ccw, cw. Each flank's position minus the error-free unit's (``reference``) there,
     both from the crank angle r.chi_rad."""
     chi0 = float(r.chi_rad)
-    chis = chi0 - g.zc * theta
-    coef = mesh_table(g, chis)
+    chis = np.ascontiguousarray(chi0 - g.zc * np.asarray(theta, float))
+    coef = np.empty((chis.size, N_COEF, g.discs, g.zp))
+    mesh_columns(g.stage_geometry, chis, coef)
     a = flank_positions(g, r, theta, chis, kin, exact, coef)
     b = flank_positions(g, reference, theta, chis, kin, exact, coef)
     return np.stack([a.ccw_rad - b.ccw_rad, a.cw_rad - b.cw_rad])
@@ -655,26 +868,57 @@ def curve_extremes(g: ContactGeometry, r, reference, kin: Kinematics, run: Flank
                     best[i], where[i] = v, x
 
     # the steps whose interpolated extreme passes the sampled one, best first
-    first = []
+    first, windows = [], []
+    w = WINDOW_REV * n  # a window's half-width [steps]
+    grid = [w * k / WINDOW_POINTS for k in range(-WINDOW_POINTS, WINDOW_POINTS + 1)]
+
+    def rests(k: int) -> bool:
+        """Whether the stage rests (is preloaded) at either end of step k: where the exact rest can part
+        from the linearised one the estimates read."""
+        return bool(run.preload_um[k % n] > 0.0 or run.preload_um[(k + 1) % n] > 0.0)
+
     for i in range(4):
         order = np.argsort(value[i])[::-1][:CANDIDATES]
         points = [float(k + at[i, k]) for k in order if value[i, k] > best[i]]
+        centres = [x for x in points if rests(int(x))]
         if points:  # about the best estimate too: the solved curve's narrow features sit near, not at, it
             points += [points[0] + o for o in NEAR_OFFSETS]
         # the swings the interpolation cannot rule out whose reach passes it (step_extremes), at the
         # interpolated lever's zero and about it (the solved lever's zero sits near, not at, it)
         for k in np.flatnonzero(est.swing_value[i] > best[i]):
             x = float(k + est.swing_at[i, k])
+            centres.append(x)
             points += [x - SWING_SIDE, x + SWING_SIDE] + [x + o for o in NEAR_OFFSETS]
             z = solved_lever_zero(g, r, kin, run, int(k), int(est.swing_pin[i, k]), zeros)
             if z is not None:  # the solved lever's zero: a swing narrower than the offsets above (unit 83)
                 points += [z + o for o in SWING_OFFSETS]
+        if exact:  # the exact rest's features sit up to ~0.15 of a default step from the linearised ones
+            for x in centres:
+                points += [x + o for o in grid]
         first.append(points)
+        windows.append(centres)
     solve(first)
-    # a pattern search about each extreme found: a cusp or a swing's end to within a small part of a step
-    d = 1.0 / STEP_POINTS
-    for _ in range(ZOOM_LEVELS):
-        solve([[float(where[i] + o * d) for o in (-1.0, -0.5, 0.5, 1.0)] for i in range(4)])
+    # a pattern search about each extreme found, and about the best of each window that comes within
+    # ZOOM_MARGIN of it: a cusp or a swing's end to within a small part of a step
+    starts = []
+    for i, (f, sign) in enumerate(goals):
+        local = [where[i]]
+        if exact:
+            for x in windows[i]:
+                xs = [x + o for o in grid if x + o in solved]
+                if xs:
+                    xb = max(xs, key=lambda y: sign * solved[y][f])
+                    if sign * solved[xb][f] > best[i] - ZOOM_MARGIN_RAD and all(abs(xb - y) > 1e-9 for y in local):
+                        local.append(xb)
+        starts.append(local)
+    d = min(1.0 / STEP_POINTS, w / WINDOW_POINTS) if exact else 1.0 / STEP_POINTS
+    levels = ZOOM_LEVELS + (int(math.ceil(math.log2(1.0 / STEP_POINTS / d))) if d < 1.0 / STEP_POINTS else 0)
+    for _ in range(levels):
+        pts = [[float(x + o * d) for x in starts[i] for o in (-1.0, -0.5, 0.5, 1.0)] for i in range(4)]
+        solve(pts)
+        for i, (f, sign) in enumerate(goals):  # each start moves to the best of its neighbours
+            starts[i] = [max([x] + [x + o * d for o in (-1.0, -0.5, 0.5, 1.0)], key=lambda y: sign * solved[y][f]
+                             if y in solved else sign * te[f][int(round(y)) % n]) for x in starts[i]]
         d *= 0.5
     return (-best[1], best[0]), (-best[3], best[2])
 
