@@ -327,6 +327,26 @@ def _rest_force(exact, beta, coef, stage, unit, work):
 
 
 @njit(nogil=True, cache=True)
+def illinois_update(xa, fa, xb, fb, kept, x, fx):
+    """One false-position step's bracket update, Illinois variant (Dowell & Jarratt 1971, BIT 11: 168-174):
+    the bracket xa .. xb (values fa, fb of opposite signs) with the point x (value fx, not 0): x replaces the
+    end whose value has fx's sign; where the same end is replaced twice in a row the other end's value is
+    halved, so that the bracket closes from both sides. ``kept``: the end replaced last (1: a, -1: b, 0:
+    none). Returns (xa, fa, xb, fb, kept)."""
+    if (fx > 0.0) == (fa > 0.0):
+        xa, fa = x, fx
+        if kept == 1:
+            fb *= 0.5
+        kept = 1
+    else:
+        xb, fb = x, fx
+        if kept == -1:
+            fa *= 0.5
+        kept = -1
+    return xa, fa, xb, fb, kept
+
+
+@njit(nogil=True, cache=True)
 def _rest_root(exact, beta, reach, coef, stage, unit, work):
     """(beta, deepest interference there [um]): a root of _rest_force's F near the start beta [rad] at
     which F rises (the contacts' strain energy has a minimum there): a bracket found by steps that
@@ -368,16 +388,7 @@ def _rest_root(exact, beta, reach, coef, stage, unit, work):
         f, _, depth = _rest_force(exact, beta, coef, stage, unit, work)
         if f == 0.0:
             return beta, depth
-        if f > 0.0:
-            xr, fr = beta, f
-            if side == 1:
-                fl *= 0.5
-            side = 1
-        else:
-            xl, fl = beta, f
-            if side == -1:
-                fr *= 0.5
-            side = -1
+        xr, fr, xl, fl, side = illinois_update(xr, fr, xl, fl, side, beta, f)
     return beta, depth
 
 
@@ -960,16 +971,7 @@ def solved_lever_zero(g: ContactGeometry, r, kin: Kinematics, run: FlankCurve, n
             if lx == 0.0:
                 xa = xb = x
                 break
-            if (lx > 0.0) == (la > 0.0):
-                xa, la = x, lx
-                if side == -1:
-                    lb *= 0.5  # Illinois: the end that stays put is halved
-                side = -1
-            else:
-                xb, lb = x, lx
-                if side == 1:
-                    la *= 0.5
-                side = 1
+            xa, la, xb, lb, side = illinois_update(xa, la, xb, lb, side, x, lx)
         zero = x  # the last estimate: an Illinois bracket need not close on both sides
     memo[(n, pin)] = zero
     return zero

@@ -41,8 +41,8 @@ import numpy as np
 
 from rvbacklash._numba import njit
 from rvbacklash.models.contact import N_COEF, free_interval_bounds, mesh_column_at, mesh_pin_angles, pin_gaps
-from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, PositionTable, cubic_weights, curve_scratch, lever_zero, swing_reach,
-                                          te_curve)
+from rvbacklash.models.kinematics import (ARCSEC_PER_RAD, FlankCurve, PositionTable, cubic_weights, curve_scratch,
+                                          illinois_update, lever_zero, swing_reach, te_curve)
 
 WINDOW_EXTREMES = 2  # sampled local extremes refined by a window, for the maximum and for the minimum
 WINDOW_POINTS = 4  # points a step in a window (the step either side of the extreme)
@@ -303,16 +303,7 @@ def refined_extreme(stage, kin, unit, ref, scratch, work, curve, sign):
                     if lx == 0.0:
                         xa = xb = x
                         break
-                    if (lx > 0.0) == (la > 0.0):
-                        xa, la = x, lx
-                        if kept == 1:
-                            lb *= 0.5  # Illinois: an end kept twice in a row is halved
-                        kept = 1
-                    else:
-                        xb, lb = x, lx
-                        if kept == -1:
-                            la *= 0.5
-                        kept = -1
+                    xa, la, xb, lb, kept = illinois_update(xa, la, xb, lb, kept, x, lx)
                 if work.curve.gap_um[0, d, j] > SWING_SOLVED_GAP_UM:
                     continue
                 z = xa if xa == xb else x  # the last estimate (an Illinois bracket need not close on both sides)
